@@ -1,0 +1,63 @@
+"""The ``silcount`` command line.
+
+Each subcommand lives in ``silcount/commands/<name>.py`` and exposes
+``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``.
+Library errors (:mod:`silcount.errors`) become one line on stderr and their
+documented exit code here, and nowhere else:
+
+| exit | meaning |
+|------|---------|
+| 0 | success |
+| 1 | a check failed (e.g. ``compare`` found mismatches) |
+| 2 | bad arguments |
+| 3 | unreadable input |
+| 4 | invalid mesh |
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .errors import SilcountError
+
+COMMANDS = ("audit", "report", "claims", "tables", "figures", "render", "compare")
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # exit 2 with one line, as argparse does, but name the program
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    parser = _Parser(prog="silcount", description="Audit silhouette-detection algorithms and the papers' cost claims.")
+    parser.add_argument("--version", action="version", version=f"silcount {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    for name in COMMANDS:
+        module = importlib.import_module(f".commands.{name}", __package__)
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 0
+    try:
+        return int(args._run(args) or 0)
+    except SilcountError as exc:
+        print(f"silcount {args.command}: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("silcount: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,16 @@
+"""`silcount audit` (not yet implemented)."""
+from __future__ import annotations
+
+import argparse
+
+from ..errors import BadArgument
+
+HELP = "audit (not yet implemented)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    pass
+
+
+def run(args: argparse.Namespace) -> int:
+    raise BadArgument("'audit' is not implemented yet")

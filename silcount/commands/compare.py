@@ -1,0 +1,16 @@
+"""`silcount compare` (not yet implemented)."""
+from __future__ import annotations
+
+import argparse
+
+from ..errors import BadArgument
+
+HELP = "compare (not yet implemented)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    pass
+
+
+def run(args: argparse.Namespace) -> int:
+    raise BadArgument("'compare' is not implemented yet")

@@ -1,0 +1,171 @@
+"""What every detector shares: the result type, light-facing, counted visibility.
+
+The light-facing test is the papers' visibility step (HSD paper Sec. VI 6.1;
+EESD paper Sec. 5.1): a face normal from the first three corners, a vector
+from the face to the light, a dot product and the sign of the result.
+:func:`counted_visibility` is the one scalar implementation every ``naive``
+engine calls; :func:`visibility_true_cost` measures its cost by running it,
+so the ``fast`` engines charge exactly what the ``naive`` ones execute.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from ..counting import KINDS, Memory, Num, OpCounter, plain
+from ..lights import DirectionalLight, Light, PointLight, facing_values
+from ..mesh import Mesh, from_polygons
+from .. import models
+
+VARIANTS = ("intended", "literal")
+ENGINES = ("fast", "naive")
+
+
+@dataclass
+class Silhouette:
+    """The result of one detector run for one light."""
+
+    detector: str
+    variant: str
+    engine: str
+    edge_ids: np.ndarray          # (k,) ids into mesh.edges, ascending
+    edges: np.ndarray             # (k, 2) welded vertex indices, rows sorted, rows in order
+    oriented: np.ndarray          # (k, 2) same edges, as traversed by their light-facing face
+    steps: dict[str, int]         # how many times each named step ran
+    tally: dict[str, dict[str, int]]   # cost model ("paper", "true") -> kind -> count
+    ties: int = 0                 # faces whose facing value is exactly 0
+    notes: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_edges(self) -> int:
+        return int(self.edge_ids.size)
+
+
+def facing(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
+    """Vectorised light-facing flags (F,) and the number of exact ties."""
+    val = facing_values(mesh.face_p0, mesh.face_normals, light)
+    return val > 0.0, int(np.count_nonzero(val == 0.0))
+
+
+class MeshMemory:
+    """The mesh and light as counted memory, for the ``naive`` engines."""
+
+    def __init__(self, mesh: Mesh, light: Light, counter: OpCounter) -> None:
+        self.counter = counter
+        self.vertices = Memory(mesh.vertices.reshape(-1), counter)
+        self.corners = Memory(mesh.corners, counter)
+        self.face_start = Memory(mesh.face_start, counter)
+        self.directional = isinstance(light, DirectionalLight)
+        src = light.direction if self.directional else light.position
+        self.light = Memory(np.asarray(src, dtype=np.float64), counter)
+
+
+def counted_visibility(mem: MeshMemory, p: int) -> tuple[bool, float]:
+    """Is face ``p`` light-facing?  Executed on counting arithmetic.
+
+    Reads the face's start offset and first three corner indices, their nine
+    coordinates and the light's three; computes ``e1 = p1 - p0``,
+    ``e2 = p2 - p0``, ``n = e1 x e2``, ``d = L - p0`` (point light) or
+    ``d = direction``, ``d . n`` and one comparison with 0.
+    Returns the flag and the plain value of ``d . n`` (to count ties).
+    """
+    s = plain(mem.face_start[p])
+    idx = [plain(mem.corners[s + k]) for k in range(3)]
+    pts = [[mem.vertices[3 * i + c] for c in range(3)] for i in idx]
+    e1 = [pts[1][c] - pts[0][c] for c in range(3)]
+    e2 = [pts[2][c] - pts[0][c] for c in range(3)]
+    nrm = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+    lv = [mem.light[c] for c in range(3)]
+    d = lv if mem.directional else [lv[c] - pts[0][c] for c in range(3)]
+    dot = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2]
+    return dot > 0.0, plain(dot)
+
+
+@lru_cache(maxsize=None)
+def _visibility_cost(directional: bool) -> tuple[tuple[str, int], ...]:
+    tri = from_polygons(np.eye(3), [[0, 1, 2]])
+    light: Light = DirectionalLight((0, 0, 1)) if directional else PointLight((0, 0, 5))
+    counter = OpCounter()
+    counted_visibility(MeshMemory(tri, light, counter), 0)
+    return tuple(sorted(counter.items()))
+
+
+def visibility_true_cost(light: Light) -> dict[str, int]:
+    """The ``true`` cost of one :func:`counted_visibility` call (it has no data-dependent branch)."""
+    return dict(_visibility_cost(isinstance(light, DirectionalLight)))
+
+
+def add_scaled(total: dict[str, int], cost: dict[str, int], times: int) -> None:
+    """``total += times * cost``, kind by kind."""
+    for kind, c in cost.items():
+        total[kind] = total.get(kind, 0) + int(c) * int(times)
+
+
+def oriented_edges(mesh: Mesh, edge_ids: np.ndarray, is_facing: np.ndarray) -> np.ndarray:
+    """Each edge as traversed by its light-facing face.
+
+    For an edge with several light-facing sides the first in side order is
+    used; an edge with none (possible only in ``literal`` output) keeps the
+    direction of its first side.
+    """
+    edge_ids = np.asarray(edge_ids, dtype=np.int64)
+    out = mesh.edges[edge_ids].copy()
+    if edge_ids.size == 0:
+        return out
+    side_facing = is_facing[mesh.side_face]
+    # first facing side per edge, else first side
+    start, order = mesh.edge_sides
+    rank = np.where(side_facing[order], 0, 1)
+    key = mesh.side_edge[order] * 2 + rank
+    first = order[np.lexsort((np.arange(order.size), key))]
+    # after sorting by (edge, rank), the first entry of each edge block
+    first_of_edge = first[start[:-1]]
+    pick = first_of_edge[edge_ids]
+    out[:, 0] = mesh.side_from[pick]
+    out[:, 1] = mesh.side_to[pick]
+    return out
+
+
+def make_silhouette(
+    mesh: Mesh,
+    light: Light,
+    detector: str,
+    variant: str,
+    engine: str,
+    edge_ids,
+    steps: dict[str, int],
+    true_tally: dict[str, int],
+    ties: int,
+    is_facing: np.ndarray,
+    paper_params: dict[str, float] | None = None,
+    notes: dict[str, Any] | None = None,
+) -> Silhouette:
+    """Assemble a :class:`Silhouette`: sorted unique edges, orientation, both cost models."""
+    ids = np.unique(np.asarray(edge_ids, dtype=np.int64))
+    params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
+    if paper_params:
+        params.update(paper_params)
+    paper = models.paper_tally(models.DEFAULT_PAPER_MODEL[detector], steps, params)
+    true = {k: 0 for k in KINDS}
+    true.update({k: int(v) for k, v in true_tally.items()})
+    return Silhouette(
+        detector=detector,
+        variant=variant,
+        engine=engine,
+        edge_ids=ids,
+        edges=mesh.edges[ids],
+        oriented=oriented_edges(mesh, ids, is_facing),
+        steps={k: int(v) for k, v in steps.items()},
+        tally={"paper": paper, "true": true},
+        ties=ties,
+        notes=dict(notes or {}),
+    )
+
+
+__all__ = [
+    "Silhouette", "facing", "MeshMemory", "counted_visibility", "visibility_true_cost",
+    "add_scaled", "oriented_edges", "make_silhouette", "VARIANTS", "ENGINES", "Num", "plain",
+]

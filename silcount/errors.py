@@ -1,0 +1,31 @@
+"""The small error hierarchy of silcount.
+
+The library raises these; only the CLI turns them into one line on stderr and
+an exit code (see ``silcount.cli``).  Exit codes are part of the public
+contract and documented in the README.
+"""
+from __future__ import annotations
+
+
+class SilcountError(Exception):
+    """Base class. ``exit_code`` is what the CLI exits with."""
+
+    exit_code = 1
+
+
+class UnreadableInput(SilcountError):
+    """The file cannot be read or parsed (missing, a directory, empty, corrupt, unknown format)."""
+
+    exit_code = 3
+
+
+class InvalidMesh(SilcountError):
+    """The file parsed, but the geometry cannot be audited (NaN/Inf, bad indices, no faces, too large)."""
+
+    exit_code = 4
+
+
+class BadArgument(SilcountError):
+    """A command-line or API argument is malformed (a light on a face plane, a zero direction, ...)."""
+
+    exit_code = 2

@@ -1,0 +1,52 @@
+"""The mesh model: welding, the edge table, classification (counted by hand)."""
+import numpy as np
+import pytest
+
+import silcount
+from silcount.mesh import from_polygons
+
+
+def test_quad_cube_counts():
+    m = silcount.builtin_mesh("quad_cube")
+    assert (m.n_vertices, m.n_faces, m.n_edges) == (8, 6, 12)
+    assert m.mean_sides == 4
+    assert m.is_closed and m.is_consistently_wound
+
+
+def test_welding_merges_soup_and_negative_zero():
+    # two triangles of a square given as a soup with a -0.0 duplicate
+    v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [-0.0, 0, 0], [1, 1, 0], [0, 1, 0]]
+    m = from_polygons(v, [[0, 1, 2], [3, 4, 5]])
+    assert m.n_vertices == 4
+    assert m.n_edges == 5
+    assert m.boundary_edges.size == 4
+
+
+def test_edges_sorted_rows():
+    m = silcount.builtin_mesh("icosahedron")
+    e = m.edges
+    assert np.all(e[:, 0] < e[:, 1])
+    assert np.all(np.diff(e[:, 0] * m.n_vertices + e[:, 1]) > 0)
+
+
+def test_collapsed_face_dropped():
+    v = [[0, 0, 0], [1, 0, 0], [1, 0, 0], [0, 1, 0]]
+    m = from_polygons(v, [[0, 1, 2], [0, 1, 3]])
+    assert m.n_faces == 1 and m.dropped_faces == 1
+
+
+def test_inconsistent_winding_detected():
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
+    m = from_polygons(v, [[0, 1, 2], [1, 2, 3]])  # both traverse 1->2
+    assert m.inconsistent_edges.size == 1
+
+
+@pytest.mark.parametrize("bad", [[[0, 0, np.nan], [1, 0, 0], [0, 1, 0]], [[0, 0, np.inf], [1, 0, 0], [0, 1, 0]]])
+def test_nonfinite_rejected(bad):
+    with pytest.raises(silcount.InvalidMesh):
+        from_polygons(bad, [[0, 1, 2]])
+
+
+def test_out_of_range_index_rejected():
+    with pytest.raises(silcount.InvalidMesh, match="only 3 vertices"):
+        from_polygons([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 5]])
