@@ -17,6 +17,7 @@ from .errors import BadArgument, InvalidMesh, SilcountError, UnreadableInput
 from .io import load_mesh
 from .lights import DirectionalLight, PointLight
 from .mesh import Mesh, from_polygons
+from . import shapes
 from .shapes import builtin_mesh
 
 __version__ = "0.1.0"
