@@ -145,6 +145,9 @@ def make_silhouette(
 ) -> Silhouette:
     """Assemble a :class:`Silhouette`: sorted unique edges, orientation, both cost models."""
     ids = np.unique(np.asarray(edge_ids, dtype=np.int64))
+    notes = dict(notes or {})
+    if detector != "reference":
+        notes.update(compare_with_reference(mesh, light, ids))
     params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
     if paper_params:
         params.update(paper_params)
@@ -161,8 +164,23 @@ def make_silhouette(
         steps={k: int(v) for k, v in steps.items()},
         tally={"paper": paper, "true": true},
         ties=ties,
-        notes=dict(notes or {}),
+        notes=notes,
     )
+
+
+def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> dict[str, int]:
+    """How an edge set differs from the reference silhouette (counts of edges).
+
+    ``missed_edges``: reference edges not found; ``extra_edges``: edges found
+    that the reference does not have; ``disagreement_with_reference``: both.
+    Every non-reference result carries these notes, so no disagreement is hidden.
+    """
+    from .reference import silhouette_edge_ids
+
+    ref = silhouette_edge_ids(mesh, light)
+    missed = int(np.setdiff1d(ref, edge_ids, assume_unique=True).size)
+    extra = int(np.setdiff1d(edge_ids, ref, assume_unique=True).size)
+    return {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
 
 
 __all__ = [

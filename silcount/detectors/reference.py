@@ -53,11 +53,20 @@ def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, 
     return np.asarray(out, dtype=np.int64), steps, counter, ties, flags.data.astype(bool)
 
 
-def _fast(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, dict, int, np.ndarray]:
-    is_facing, ties = facing(mesh, light)
+def _edge_ids(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
     start, order = mesh.edge_sides
     per_edge = np.add.reduceat(is_facing[mesh.side_face[order]].astype(np.int64), start[:-1])
-    ids = np.flatnonzero(per_edge == 1)
+    return np.flatnonzero(per_edge == 1)
+
+
+def silhouette_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """The reference silhouette as ascending edge ids (no tallies): the yardstick for the others."""
+    return _edge_ids(mesh, facing(mesh, light)[0])
+
+
+def _fast(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, dict, int, np.ndarray]:
+    is_facing, ties = facing(mesh, light)
+    ids = _edge_ids(mesh, is_facing)
     F, E, H = mesh.n_faces, mesh.n_edges, mesh.n_sides
     true: dict[str, int] = {}
     add_scaled(true, visibility_true_cost(light), F)
