@@ -13,15 +13,24 @@ Sec. III).  The same rule decides the other cases, and is documented:
 
 Steps: ``visibility`` once per face, ``edge_test`` once per edge, ``add``
 once per silhouette edge.
+
+Speed: the ``fast`` query keeps per-mesh arrays (the two faces of every
+two-sided edge as int32, the CSR of the other edges) in a per-mesh cache, so
+a query after the first is one pass over the faces' ``p0`` and normals (the
+facing flags, computed exactly as :func:`~.base.counted_visibility` does, in
+the same operation order) and one pass over the edge-to-face pairs.
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
+from numba import njit
 
 from ..counting import Memory, OpCounter, plain
 from ..lights import Light
 from ..mesh import Mesh
-from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, facing, make_silhouette, visibility_true_cost
+from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, visibility_true_cost
 
 NAME = "reference"
 
@@ -53,19 +62,85 @@ def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, 
     return np.asarray(out, dtype=np.int64), steps, counter, ties, flags.data.astype(bool)
 
 
+_PRECOMPUTED: "weakref.WeakKeyDictionary[Mesh, tuple]" = weakref.WeakKeyDictionary()
+
+
+def _precompute(mesh: Mesh) -> tuple:
+    """Per-mesh arrays of the fast query (cached): p0, normals, two-sided edges' faces, the rest as CSR."""
+    got = _PRECOMPUTED.get(mesh)
+    if got is None:
+        two = mesh.edge_valence == 2
+        two_ids = np.flatnonzero(two)
+        pair_faces = np.ascontiguousarray(mesh.side_face[mesh.manifold_sides[two_ids]].astype(np.int32))
+        other = np.flatnonzero(~two)
+        start, order = mesh.edge_sides
+        counts = mesh.edge_valence[other]
+        o_start = np.zeros(other.size + 1, dtype=np.int64)
+        np.cumsum(counts, out=o_start[1:])
+        within = np.arange(o_start[-1]) - np.repeat(o_start[:-1], counts)
+        o_faces = mesh.side_face[order[np.repeat(start[other], counts) + within]]
+        got = (np.ascontiguousarray(mesh.face_p0), np.ascontiguousarray(mesh.face_normals),
+               None if other.size == 0 else two_ids, pair_faces, other, o_start, o_faces)
+        _PRECOMPUTED[mesh] = got
+    return got
+
+
+@njit(cache=True)
+def _facing_kernel(p0, nrm, light, directional):  # pragma: no cover - compiled
+    F = p0.shape[0]
+    flags = np.empty(F, dtype=np.bool_)
+    ties = 0
+    lx, ly, lz = light[0], light[1], light[2]
+    for p in range(F):
+        if directional:
+            dx, dy, dz = lx, ly, lz
+        else:
+            dx, dy, dz = lx - p0[p, 0], ly - p0[p, 1], lz - p0[p, 2]
+        dot = dx * nrm[p, 0] + dy * nrm[p, 1] + dz * nrm[p, 2]
+        flags[p] = dot > 0.0
+        ties += dot == 0.0
+    return flags, ties
+
+
+@njit(cache=True)
+def _pair_kernel(flags, pair_faces):  # pragma: no cover - compiled
+    out = np.empty(pair_faces.shape[0], dtype=np.int64)
+    k = 0
+    for e in range(pair_faces.shape[0]):
+        if flags[pair_faces[e, 0]] != flags[pair_faces[e, 1]]:
+            out[k] = e
+            k += 1
+    return out[:k]
+
+
+def facing_flags(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
+    """Light-facing flags and ties, computed as :func:`~.base.counted_visibility` does, in its order."""
+    p0, nrm = _precompute(mesh)[:2]
+    src = light.direction if light.is_directional else light.position
+    flags, ties = _facing_kernel(p0, nrm, np.asarray(src, dtype=np.float64), bool(light.is_directional))
+    return flags, int(ties)
+
+
 def _edge_ids(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
-    start, order = mesh.edge_sides
-    per_edge = np.add.reduceat(is_facing[mesh.side_face[order]].astype(np.int64), start[:-1])
-    return np.flatnonzero(per_edge == 1)
+    """Ids of the edges with exactly one light-facing incident face, ascending: the reference rule."""
+    _, _, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)
+    ids = _pair_kernel(is_facing, pair_faces)
+    if two_ids is None:
+        return ids
+    ids = two_ids[ids]
+    if other.size:
+        per_edge = np.add.reduceat(is_facing[o_faces].astype(np.int64), o_start[:-1])
+        ids = np.union1d(ids, other[per_edge == 1])
+    return ids
 
 
 def silhouette_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """The reference silhouette as ascending edge ids (no tallies): the yardstick for the others."""
-    return _edge_ids(mesh, facing(mesh, light)[0])
+    return _edge_ids(mesh, facing_flags(mesh, light)[0])
 
 
 def _fast(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, dict, int, np.ndarray]:
-    is_facing, ties = facing(mesh, light)
+    is_facing, ties = facing_flags(mesh, light)
     ids = _edge_ids(mesh, is_facing)
     F, E, H = mesh.n_faces, mesh.n_edges, mesh.n_sides
     true: dict[str, int] = {}
