@@ -1,0 +1,194 @@
+"""The Triangular Algorithm's array S of directed edges, in two engines.
+
+HSD paper Sec. IV 4.1 and EESD paper Sec. 3.1 keep the candidate silhouette
+edges in "an array of edges (S)" that is searched "from the first of the
+array"; a found edge is deleted, a missing one is appended.  Both TA and HSD
+(TA over merged polygons) run on this module.
+
+* :class:`CountedEdgeArray` is S on counting memory (the ``naive`` engines):
+  each directed edge is one packed integer key ``from * V + to``; a search
+  reads and compares elements from the front and stops at the first match;
+  a deletion shifts every element behind it one place left (one read and one
+  write each) and decrements the length; an append writes one element and
+  increments the length.  The length is a :class:`~silcount.counting.Num`, so
+  its updates count one ``add`` each; the search loop's bound test is loop
+  bookkeeping (not counted).
+* :func:`replay` computes the same outcome and the same counts without the
+  quadratic scan (the ``fast`` engines): S is a sequence of insertion slots;
+  the position of a live element is the number of live elements inserted
+  before it, kept in a Fenwick tree; the live slots of each directed edge form
+  a FIFO queue (a search finds the front-most match, i.e. the oldest live
+  copy; appends go to the back), so duplicates, non-manifold edges and
+  inconsistent winding are replayed exactly as the array would behave.
+
+Directed edges are identified in :func:`replay` by ``2 * edge_id + dir``
+(``dir = 0`` for lower -> higher vertex index), so the reverse of key ``k``
+is ``k ^ 1``; this is a relabelling of the packed keys, not a different rule.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from ..counting import Memory, Num, OpCounter
+
+
+class CountedEdgeArray:
+    """S as counted memory: packed directed-edge keys, searched from the front."""
+
+    def __init__(self, capacity: int, counter: OpCounter) -> None:
+        self.data = Memory(np.zeros(max(capacity, 1), dtype=np.int64), counter)
+        self.length = Num(0, counter)
+
+    def find(self, key: Num) -> int:
+        """Position of the first element equal to ``key``, else -1 (reads and compares up to it)."""
+        for i in range(self.length.value):
+            if self.data[i] == key:
+                return i
+        return -1
+
+    def delete(self, pos: int) -> None:
+        """Remove the element at ``pos``, keeping order: the elements behind it move left."""
+        for j in range(pos + 1, self.length.value):
+            self.data[j - 1] = self.data[j]
+        self.length = self.length - 1
+
+    def append(self, key: Num) -> None:
+        self.data[self.length.value] = key
+        self.length = self.length + 1
+
+    def keys(self) -> np.ndarray:
+        """The live keys in array order (uncounted: this is the output)."""
+        return np.asarray(self.data.data[: self.length.value], dtype=np.int64)
+
+
+@dataclass
+class Replay:
+    """The outcome of running TA's array S over a sequence of sides."""
+
+    live_keys: np.ndarray   # directed keys (2*edge + dir) left in S, in array order
+    searched: int           # sides searched (one search per side of a light-facing polygon)
+    examined: int           # elements read and compared by all searches
+    deleted: int            # searches that found the reverse edge
+    added: int              # searches that did not
+    shifted: int            # elements moved left by deletions
+
+
+@njit(cache=True)
+def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover - compiled
+    n_init = initial.size
+    n_sides = 0
+    for p in range(poly_facing.size):
+        if poly_facing[p]:
+            n_sides += start[p + 1] - start[p]
+    n_slots = n_init + n_sides
+    tree = np.zeros(n_slots + 1, dtype=np.int64)       # Fenwick tree over slots (1-based)
+    alive = np.zeros(n_slots, dtype=np.bool_)
+    slot_key = np.empty(n_slots, dtype=np.int64)
+    nxt = np.full(n_slots, -1, dtype=np.int64)          # next live slot with the same key
+    head = np.full(n_keys, -1, dtype=np.int64)
+    tail = np.full(n_keys, -1, dtype=np.int64)
+    for s in range(n_init):                            # O(n) Fenwick build over initial ones
+        tree[s + 1] += 1
+        parent = (s + 1) + ((s + 1) & -(s + 1))
+        if parent <= n_slots:
+            tree[parent] += tree[s + 1]
+        k = initial[s]
+        slot_key[s] = k
+        alive[s] = True
+        if head[k] < 0:
+            head[k] = s
+        else:
+            nxt[tail[k]] = s
+        tail[k] = s
+    size = n_init
+    used = n_init
+    searched = 0
+    examined = 0
+    deleted = 0
+    shifted = 0
+    for p in range(poly_facing.size):
+        if not poly_facing[p]:
+            continue
+        for q in range(start[p], start[p + 1]):
+            key = side_key[q]
+            rev = key ^ 1
+            searched += 1
+            s = head[rev]
+            if s >= 0:
+                pos = 0                                 # live slots before s
+                i = s
+                while i > 0:
+                    pos += tree[i]
+                    i -= i & -i
+                examined += pos + 1
+                shifted += size - pos - 1
+                i = s + 1
+                while i <= n_slots:
+                    tree[i] -= 1
+                    i += i & -i
+                alive[s] = False
+                head[rev] = nxt[s]
+                if head[rev] < 0:
+                    tail[rev] = -1
+                size -= 1
+                deleted += 1
+            else:
+                examined += size
+                s = used
+                used += 1
+                i = s + 1
+                while i <= n_slots:
+                    tree[i] += 1
+                    i += i & -i
+                alive[s] = True
+                slot_key[s] = key
+                if head[key] < 0:
+                    head[key] = s
+                else:
+                    nxt[tail[key]] = s
+                tail[key] = s
+                size += 1
+    live = slot_key[:used][alive[:used]]
+    return live, searched, examined, deleted, used - n_init, shifted
+
+
+def replay(start: np.ndarray, side_key: np.ndarray, poly_facing: np.ndarray, n_keys: int,
+           initial: np.ndarray | None = None) -> Replay:
+    """Run S over polygons in order: for each light-facing polygon, each side's key, search its reverse.
+
+    ``start`` (P+1,) CSR offsets into ``side_key`` (directed keys ``2*edge+dir``);
+    ``initial`` the keys S holds before the loop (the ``literal`` TA start).
+    """
+    init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
+    live, searched, examined, deleted, added, shifted = _replay(
+        np.ascontiguousarray(start, dtype=np.int64), np.ascontiguousarray(side_key, dtype=np.int64),
+        np.ascontiguousarray(poly_facing, dtype=np.bool_), int(n_keys), init)
+    return Replay(live, int(searched), int(examined), int(deleted), int(added), int(shifted))
+
+
+def directed_keys(side_edge: np.ndarray, side_from: np.ndarray, side_to: np.ndarray) -> np.ndarray:
+    """``2 * edge + (from > to)``: the directed key of each side; its reverse is ``key ^ 1``."""
+    return 2 * np.asarray(side_edge, dtype=np.int64) + (np.asarray(side_from) > np.asarray(side_to))
+
+
+def keys_to_directed(edges: np.ndarray, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edge ids and (k, 2) directed vertex pairs of directed keys."""
+    ids = keys >> 1
+    pairs = edges[ids].copy()
+    flip = (keys & 1).astype(bool)
+    pairs[flip] = pairs[flip][:, ::-1]
+    return ids, pairs
+
+
+def first_orientation(ids: np.ndarray, pairs: np.ndarray, unique_ids: np.ndarray) -> np.ndarray:
+    """For each of ``unique_ids`` (ascending), the direction of its first entry in S."""
+    order = np.lexsort((np.arange(ids.size), ids))
+    sorted_ids = ids[order]
+    first = order[np.searchsorted(sorted_ids, unique_ids)]
+    return pairs[first]
+
+
+__all__ = ["CountedEdgeArray", "Replay", "replay", "directed_keys", "keys_to_directed", "first_orientation"]

@@ -1,0 +1,165 @@
+"""The Triangular Algorithm (TA): HSD paper Sec. IV 4.1 and VI 6.1; EESD paper Sec. 3.1 and 5.1.
+
+For each light-facing face (in index order), for each side ``v_p -> v_q`` in
+the face's corner order: if the reverse directed edge ``v_q -> v_p`` is in the
+array S, delete it; otherwise append ``v_p -> v_q``.  What S holds at the end
+is the silhouette, each edge in the direction its light-facing face traverses
+it (that is ``oriented``).  S is an array searched linearly from the front
+(:mod:`.edge_array`, counting rules in ``docs/counting.md``).
+
+Variants
+--------
+``intended``
+    S starts empty ("S : Array of edges=0", HSD paper Sec. 4.1).
+``literal``
+    "First lets have an array of all edges (S)" (EESD paper Sec. 3.1): S
+    starts with every undirected edge of the edge table, in edge-table order
+    (rows sorted), each directed from its lower to its higher vertex index.
+    An edge whose faces both face away is then never touched and stays in S,
+    and a light-facing side that runs lower -> higher finds no reverse and is
+    appended beside its initial copy: the output differs from the reference
+    (``notes['missed_edges']``, ``notes['extra_edges']``).  Building the
+    initial array is the step ``init_S`` (2 reads, 1 mul, 1 add to pack, one
+    append per edge); the paper does not cost it.
+
+Meshes other than closed, consistently wound ones
+-------------------------------------------------
+TA works on directed edges, so it only cancels a side against an
+opposite-direction side:
+
+* a boundary edge is a silhouette edge iff its one face is light-facing
+  (as in the reference);
+* an inconsistently wound edge whose two faces both face the light is added
+  twice (two copies of the same directed edge stay in S): TA reports it, the
+  reference does not;
+* on a non-manifold edge the light-facing sides cancel in opposite-direction
+  pairs, front-most copy first; what remains is reported.
+
+Copies of one edge left in S are counted in ``notes['duplicates_in_S']``;
+``edges`` lists each edge once, ``oriented`` uses its front-most copy.
+
+Steps
+-----
+``visibility`` (every face), ``search_S`` (every side of a light-facing
+face), ``delete``, ``add`` (annotated by the papers, ``models/``), plus the
+``true``-only steps ``shift`` (elements moved left by deletions) and, for
+``literal``, ``init_S``.
+
+Engines
+-------
+``naive`` runs the loop on counting memory (:class:`.CountedEdgeArray`);
+``fast`` replays it with a Fenwick tree (:func:`.edge_array.replay`) and
+charges the same counts.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..counting import Memory, OpCounter, plain
+from ..lights import Light
+from ..mesh import Mesh
+from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, visibility_true_cost
+from .edge_array import CountedEdgeArray, directed_keys, first_orientation, keys_to_directed, replay
+from .reference import facing_flags
+
+NAME = "ta"
+
+# ``true`` cost of the work around the array, per event (see docs/counting.md).
+FACING_FACE_COST = {"read": 2}                        # face_start[p], face_start[p+1]
+SIDE_COST = {"read": 2, "mul": 1, "add": 1}           # v_p, v_q; reverse key v_q*V + v_p
+ADD_COST = {"mul": 1, "add": 2, "write": 1}           # key v_p*V + v_q; S[len] = key; len + 1
+DELETE_COST = {"add": 1}                              # len - 1
+INIT_COST = {"read": 2, "mul": 1, "add": 2, "write": 1}   # literal start: one packed edge appended
+
+
+def array_true_tally(searched: int, examined: int, deleted: int, added: int, shifted: int,
+                     facing_polygons: int) -> dict[str, int]:
+    """``true`` cost of the side loop and S operations from the replay's counts (shared with HSD)."""
+    true: dict[str, int] = {}
+    add_scaled(true, FACING_FACE_COST, facing_polygons)
+    add_scaled(true, SIDE_COST, searched)
+    add_scaled(true, {"read": 1, "cmp": 1}, examined)
+    add_scaled(true, DELETE_COST, deleted)
+    add_scaled(true, {"read": 1, "write": 1}, shifted)
+    add_scaled(true, ADD_COST, added)
+    return true
+
+
+def _naive(mesh: Mesh, light: Light, variant: str):
+    counter = OpCounter()
+    mem = MeshMemory(mesh, light, counter)
+    side_to = Memory(mesh.side_to, counter)
+    V, E, F = mesh.n_vertices, mesh.n_edges, mesh.n_faces
+    S = CountedEdgeArray(E + mesh.n_sides, counter)
+    steps = {"visibility": 0, "search_S": 0, "delete": 0, "add": 0, "shift": 0}
+    if variant == "literal":                       # "First lets have an array of all edges (S)"
+        table = Memory(mesh.edges.reshape(-1), counter)
+        for e in range(E):
+            S.append(table[2 * e] * V + table[2 * e + 1])
+        steps["init_S"] = E
+    flags = np.zeros(F, dtype=bool)
+    ties = 0
+    for p in range(F):                                          # For p = 1 to Number Of Faces
+        visible, value = counted_visibility(mem, p)             # If p.visible = True then
+        steps["visibility"] += 1
+        ties += value == 0.0
+        flags[p] = visible
+        if not visible:
+            continue
+        first, last = plain(mem.face_start[p]), plain(mem.face_start[p + 1])
+        for q in range(first, last):                            # For q = 1 to Number Of Side
+            vp, vq = mem.corners[q], side_to[q]
+            steps["search_S"] += 1
+            pos = S.find(vq * V + vp)                           # If v_p v_q^-1 belongs to S
+            if pos >= 0:
+                steps["shift"] += S.length.value - pos - 1
+                S.delete(pos)                                   # Delete it from S
+                steps["delete"] += 1
+            else:
+                S.append(vp * V + vq)                           # Add v_p v_q to S
+                steps["add"] += 1
+    keys = S.keys()
+    pairs = np.stack([keys // V, keys % V], axis=1)
+    lo, hi = pairs.min(axis=1), pairs.max(axis=1)
+    ids = np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi)
+    return ids, pairs, steps, dict(counter), ties, flags
+
+
+def _fast(mesh: Mesh, light: Light, variant: str):
+    is_facing, ties = facing_flags(mesh, light)
+    E, F = mesh.n_edges, mesh.n_faces
+    keys = directed_keys(mesh.side_edge, mesh.side_from, mesh.side_to)
+    initial = 2 * np.arange(E, dtype=np.int64) if variant == "literal" else None
+    r = replay(mesh.face_start, keys, is_facing, 2 * E, initial)
+    ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
+    steps = {"visibility": F, "search_S": r.searched, "delete": r.deleted, "add": r.added, "shift": r.shifted}
+    true: dict[str, int] = {}
+    add_scaled(true, visibility_true_cost(light), F)
+    if variant == "literal":
+        steps["init_S"] = E
+        add_scaled(true, INIT_COST, E)
+    for kind, c in array_true_tally(r.searched, r.examined, r.deleted, r.added, r.shifted,
+                                    int(np.count_nonzero(is_facing))).items():
+        true[kind] = true.get(kind, 0) + c
+    return ids, pairs, steps, true, ties, is_facing
+
+
+def finish(mesh: Mesh, light: Light, detector: str, variant: str, engine: str, ids: np.ndarray,
+           pairs: np.ndarray, steps: dict, true: dict, ties: int, flags: np.ndarray,
+           paper_params: dict | None = None, notes: dict | None = None) -> Silhouette:
+    """The :class:`Silhouette` of what S holds: unique edges, front-most copy's direction, duplicates noted."""
+    unique = np.unique(ids)
+    notes = dict(notes or {})
+    notes["S_length"] = int(ids.size)
+    notes["duplicates_in_S"] = int(ids.size - unique.size)
+    res = make_silhouette(mesh, light, detector, variant, engine, unique, steps, true, ties, flags,
+                          paper_params=paper_params, notes=notes)
+    res.oriented = first_orientation(ids, pairs, unique)
+    return res
+
+
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """TA's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
+    run = _naive if engine == "naive" else _fast
+    ids, pairs, steps, true, ties, flags = run(mesh, light, variant)
+    return finish(mesh, light, NAME, variant, engine, ids, pairs, steps, true, ties, flags)
