@@ -1,0 +1,100 @@
+"""RayTracer against an independent brute-force solver and against hand-made cases."""
+import numpy as np
+import pytest
+
+from silcount.raytrace import RayTracer
+
+
+def brute_force(tris, origins, directions, t_min, t_max):
+    """Every ray against every triangle by solving O + tD = a + u e1 + v e2 with numpy.linalg.
+
+    Returns the nearest t, its triangle, and each ray's smallest distance of a
+    barycentric coordinate (or of t) to its bound over all triangles, so that
+    tests can leave out rays that graze an edge within rounding.
+    """
+    R, T = len(origins), len(tris)
+    a, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    best_t = np.full(R, np.inf)
+    best_i = np.full(R, -1)
+    margin = np.full(R, np.inf)
+    for r in range(R):
+        A = np.stack([-np.broadcast_to(directions[r], (T, 3)), e1, e2], axis=2)   # (T, 3, 3) columns
+        ok = np.abs(np.linalg.det(A)) > 1e-12
+        sol = np.full((T, 3), np.nan)
+        sol[ok] = np.linalg.solve(A[ok], (origins[r] - a[ok])[:, :, None])[:, :, 0]
+        t, u, v = sol[:, 0], sol[:, 1], sol[:, 2]
+        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > t_min) & (t < t_max)
+        margin[r] = np.nanmin(np.abs(np.concatenate([u, v, 1 - u - v, t - t_min, t_max - t])))
+        if hit.any():
+            j = np.flatnonzero(hit)[np.argmin(t[hit])]
+            best_t[r], best_i[r] = t[j], j
+    return best_t, best_i, margin
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_random_triangles_match_brute_force(seed):
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(-1, 1, size=(300, 1, 3))
+    tris = centres + rng.normal(scale=0.3, size=(300, 3, 3))
+    origins = rng.uniform(-2, 2, size=(400, 3))
+    directions = rng.normal(size=(400, 3)) * rng.uniform(0.1, 3.0, size=(400, 1))   # not unit
+    t_min, t_max = 0.05, 2.5
+    rt = RayTracer(tris)
+    t, i = rt.first_hit(origins, directions, t_min, t_max)
+    bt, bi, margin = brute_force(tris, origins, directions, t_min, t_max)
+    clear = margin > 1e-9
+    assert clear.mean() > 0.95
+    assert np.array_equal(i[clear], bi[clear])
+    assert np.allclose(t[clear], bt[clear], rtol=1e-9) or np.array_equal(t[clear], bt[clear])
+    assert (i >= 0).sum() > 50 and (i < 0).sum() > 50            # both outcomes exercised
+    assert np.array_equal(rt.any_hit(origins, directions, t_min, t_max)[clear], (bi >= 0)[clear])
+
+
+def test_nearest_hit_and_t_is_in_units_of_direction():
+    # Two parallel squares' triangles at z = 1 and z = 3; a ray from z = 0 upwards with |D| = 2.
+    tri_lo = [[-1, -1, 1], [1, -1, 1], [0, 1, 1]]
+    tri_hi = [[-1, -1, 3], [1, -1, 3], [0, 1, 3]]
+    rt = RayTracer(np.array([tri_hi, tri_lo], dtype=float))
+    t, i = rt.first_hit([[0, 0, 0]], [[0, 0, 2]])
+    assert i.tolist() == [1] and t.tolist() == [0.5]                 # z = 1 at t = 1/2
+    t, i = rt.first_hit([[0, 0, 0]], [[0, 0, 2]], t_min=0.5)         # open range: z = 1 excluded
+    assert i.tolist() == [0] and t.tolist() == [1.5]
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], t_max=0.5).tolist() == [False]
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], t_max=0.5000001).tolist() == [True]
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], ignore=[1]).tolist() == [True]      # the upper one
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, -2]]).tolist() == [False]                # pointing away
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, -2]], t_min=-np.inf).tolist() == [True]  # the whole line
+
+
+def test_ray_through_shared_edge_hits_one_of_the_two():
+    # The unit square split along its diagonal (0,0)-(1,1) into two triangles; rays along -z
+    # through points of the diagonal (and of the shared vertices) must hit one of them.
+    a, b, c, d = [0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]
+    rt = RayTracer(np.array([[a, b, c], [a, c, d]], dtype=float))
+    s = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+    origins = np.stack([s, s, np.full_like(s, 5.0)], axis=1)
+    t, i = rt.first_hit(origins, np.tile([0.0, 0.0, -1.0], (5, 1)))
+    assert np.all(i >= 0) and np.all(t == 5.0)
+    # and across the square's outer edge x = 1 it is inclusive too, just outside it misses
+    assert rt.any_hit([[1.0, 0.5, 5.0], [1.0 + 1e-12, 0.5, 5.0]], [[0, 0, -1], [0, 0, -1]]).tolist() == [True, False]
+
+
+def test_grazing_ray_in_the_triangle_plane_misses():
+    rt = RayTracer(np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], dtype=float))
+    # det == 0 exactly: the ray runs inside the plane z = 0, across the triangle
+    assert rt.any_hit([[-1.0, 0.25, 0.0]], [[1.0, 0.0, 0.0]]).tolist() == [False]
+
+
+def test_no_hit_conventions_and_degenerate_input():
+    rt = RayTracer(np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], dtype=float))
+    t, i = rt.first_hit([[5, 5, 5], [np.nan, 0, 0], [0.1, 0.1, 1]], [[1, 0, 0], [0, 0, -1], [0, 0, 0]])
+    assert t.tolist() == [np.inf] * 3 and i.tolist() == [-1] * 3
+    assert RayTracer(np.zeros((0, 3, 3))).any_hit([[0, 0, 0]], [[1, 0, 0]]).tolist() == [False]
+
+
+def test_per_ray_ranges_and_hits_triangle():
+    tris = np.array([[[-1, -1, 1], [1, -1, 1], [0, 1, 1]]], dtype=float)
+    rt = RayTracer(tris)
+    o, d = np.zeros((3, 3)), np.tile([0.0, 0.0, 1.0], (3, 1))
+    assert rt.any_hit(o, d, t_min=np.array([0.0, 1.0, 0.5]), t_max=np.array([2.0, 2.0, 0.9])).tolist() == [True, False, False]
+    assert rt.hits_triangle(o, d, np.zeros(3, dtype=int), t_max=np.array([2.0, 1.0, 1.5])).tolist() == [True, False, True]
