@@ -1,16 +1,67 @@
-"""`silcount report` (not yet implemented)."""
+"""`silcount report [--out DIR]`: regenerate everything under reports/ from built-in data.
+
+The parts, each a module exposing ``report(out_dir: Path) -> list[Path]``:
+claims, tables, figures (``silcount.commands.claims``/``tables``/``figures``),
+the renders of the shared scenes (``silcount.commands.render``), and the
+audit of every built-in mesh (:func:`report` here, into ``<out>/audit/``).
+A part that is not implemented yet is skipped with a note on stderr.
+
+Deterministic: the audits written here carry no wall times (``time_s`` is
+``null``), use the default 16 lights of seed 0, both variants and the
+``fast`` engine, so the same files come out on every run.
+"""
 from __future__ import annotations
 
 import argparse
+import importlib
+import sys
+from pathlib import Path
 
+from .. import shapes
 from ..errors import BadArgument
+from ..audit import AuditSettings, random_lights, run_audit
+from ..formats import render, write_atomic
+from .audit import EXTENSIONS, available_detectors
 
-HELP = "report (not yet implemented)"
+HELP = "regenerate everything under reports/ (claims, tables, figures, renders, audits) from built-in data"
+PARTS = ("claims", "tables", "figures", "render")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    pass
+    parser.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR",
+                        help="output directory (default: reports)")
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Audit every built-in mesh into ``out_dir/audit/<mesh>.md`` and ``.json``; returns the paths."""
+    settings = AuditSettings(detectors=available_detectors(), variants=("intended", "literal"), with_time=False)
+    written = []
+    for name in shapes.BUILTIN:
+        mesh = shapes.builtin_mesh(name)
+        audit = run_audit(mesh, random_lights(mesh), settings, source=f"built-in {name}", quiet=True)
+        for form in ("md", "json"):
+            path = out_dir / "audit" / f"{name}.{EXTENSIONS[form]}"
+            write_atomic(path, render(audit, form))
+            written.append(path)
+    return written
+
+
+def _part(name: str):
+    module = importlib.import_module(f".{name}", __package__)
+    return getattr(module, "report", None)
 
 
 def run(args: argparse.Namespace) -> int:
-    raise BadArgument("'report' is not implemented yet")
+    out: Path = args.out
+    if out.exists() and not out.is_dir():
+        raise BadArgument(f"--out {out}: not a directory")
+    jobs = [(name, _part(name)) for name in PARTS] + [("audit", report)]
+    for name, fn in jobs:
+        if fn is None:
+            print(f"silcount report: skipped {name}: not implemented yet", file=sys.stderr)
+            continue
+        paths = fn(out)
+        print(f"{name}: wrote {len(paths)} files under {out}")
+        for p in paths:
+            print(f"  {p}")
+    return 0
