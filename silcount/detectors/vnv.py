@@ -1,0 +1,144 @@
+"""The Visible-non-Visible algorithm (VnV): HSD paper Sec. IV 4.2 and VI 6.2; EESD paper Sec. 3.2 and 5.2.
+
+As printed (EESD paper Sec. 3.2)::
+
+    For E=1 to Number Of Edges
+      For F=1 to Number Of Faces
+        If F.visible =True then
+          E_counter =E_counter+1
+      If e_counter=1 then
+        Add E to S
+
+The double loop is the algorithm's cost structure (``e_n * f_n`` visibility
+tests, the papers' sums in Sec. 5.2 / 6.2), so both variants keep it.
+
+Variants
+--------
+``literal``
+    Exactly as printed: the loop never asks whether face F contains edge E,
+    and the counter is never reset ("counter never reset" reading: it starts
+    at 0 once, before the edge loop).  After edge number ``e`` (1-based) it
+    holds ``e * v`` with ``v`` the number of light-facing faces, so the output
+    is the first edge when ``v == 1`` and nothing otherwise.  The other
+    reading (reset per edge) would output every edge when ``v == 1`` and
+    nothing otherwise; its edge count is in ``notes['reset_reading_edges']``.
+``intended``
+    The counter is reset for every edge and counts only the faces that
+    contain the edge: inside ``If F.visible`` (the printed test comes first,
+    so every pair still pays one visibility test, as the papers charge), a
+    ``contains`` test scans F's sides for edge E (reads ``face_start[F]``,
+    ``face_start[F+1]``, then one read of ``side_edge`` and one compare per
+    side examined, stopping at the match).  The counter rises only on a match.
+
+Boundary and non-manifold edges (``intended``): the edge is a silhouette edge
+iff exactly one of its incident faces is light-facing, as in the reference:
+a boundary edge iff its face faces the light; a non-manifold edge iff
+exactly one of its faces does.
+
+Steps
+-----
+``visibility`` (every edge-face pair), ``counter`` (every increment),
+``check_counter`` (every edge), ``add`` (every edge added), as in
+``models/eesd2012-vnv.toml``; ``true``-only: ``contains`` (intended, every
+pair whose face is light-facing).
+
+Engines
+-------
+``naive`` runs the double loop on counting arithmetic (small meshes only:
+it is O(E F)).  ``fast`` derives the same counts from the facing flags:
+``E*F`` visibility tests; per light-facing face with ``m_f`` sides, ``E``
+containment scans of which ``E - m_f`` examine all ``m_f`` sides and the
+``m_f`` incident ones stop after 1, 2, ..., ``m_f`` sides (a face lists an
+edge once); the counter rises once per incident (edge, facing face) pair.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..counting import Memory, Num, OpCounter, plain
+from ..lights import Light
+from ..mesh import Mesh
+from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, visibility_true_cost
+from .reference import facing_flags, silhouette_edge_ids
+
+NAME = "vnv"
+
+COUNTER_COST = {"add": 1}             # counter + 1
+CHECK_COST = {"cmp": 1}               # counter == 1 (the counter is a local: no read)
+ADD_COST = {"write": 1}               # S[k] = E
+CONTAINS_COST = {"read": 2}           # face_start[F], face_start[F+1]
+SIDE_EXAMINED_COST = {"read": 1, "cmp": 1}   # side_edge[s] == E
+
+
+def _naive(mesh: Mesh, light: Light, variant: str):
+    counter = OpCounter()
+    mem = MeshMemory(mesh, light, counter)
+    side_edge = Memory(mesh.side_edge, counter)
+    E, F = mesh.n_edges, mesh.n_faces
+    S = Memory(np.zeros(E, dtype=np.int64), counter)
+    out: list[int] = []
+    flags = np.zeros(F, dtype=bool)
+    ties = 0
+    steps = {"visibility": 0, "counter": 0, "check_counter": 0, "add": 0}
+    if variant == "intended":
+        steps["contains"] = 0
+    count = Num(0, counter)                                     # literal: set once, never reset
+    for e in range(E):                                          # For E = 1 to Number Of Edges
+        if variant == "intended":
+            count = Num(0, counter)
+        for f in range(F):                                      # For F = 1 to Number Of Faces
+            visible, value = counted_visibility(mem, f)         # If F.visible = True then
+            steps["visibility"] += 1
+            if e == 0:
+                flags[f], ties = visible, ties + (value == 0.0)
+            if not visible:
+                continue
+            if variant == "intended":                           # ... and F contains E
+                steps["contains"] += 1
+                lo, hi = plain(mem.face_start[f]), plain(mem.face_start[f + 1])
+                if not any(side_edge[s] == e for s in range(lo, hi)):   # stops at the match
+                    continue
+            count = count + 1                                   # E_counter = E_counter + 1
+            steps["counter"] += 1
+        steps["check_counter"] += 1
+        if count == 1:                                          # If e_counter = 1 then
+            S[len(out)] = e                                     # Add E to S
+            out.append(e)
+            steps["add"] += 1
+    return np.asarray(out, dtype=np.int64), steps, dict(counter), ties, flags
+
+
+def _fast(mesh: Mesh, light: Light, variant: str):
+    is_facing, ties = facing_flags(mesh, light)
+    E, F = mesh.n_edges, mesh.n_faces
+    n_vis = int(np.count_nonzero(is_facing))
+    if variant == "intended":
+        ids = silhouette_edge_ids(mesh, light)   # exactly one light-facing incident face
+        m_vis = mesh.face_sizes[is_facing].astype(np.int64)
+        examined = int(np.sum((E - m_vis) * m_vis + m_vis * (m_vis + 1) // 2))
+        increments = int(m_vis.sum())
+    else:
+        ids = np.zeros(1 if n_vis == 1 and E > 0 else 0, dtype=np.int64)   # counter after edge e is e * n_vis
+        increments = E * n_vis
+    steps = {"visibility": E * F, "counter": increments, "check_counter": E, "add": int(ids.size)}
+    true: dict[str, int] = {}
+    add_scaled(true, visibility_true_cost(light), E * F)
+    add_scaled(true, COUNTER_COST, increments)
+    add_scaled(true, CHECK_COST, E)
+    add_scaled(true, ADD_COST, ids.size)
+    if variant == "intended":
+        steps["contains"] = E * n_vis
+        add_scaled(true, CONTAINS_COST, E * n_vis)
+        add_scaled(true, SIDE_EXAMINED_COST, examined)
+    return ids, steps, true, ties, is_facing
+
+
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """VnV's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
+    run = _naive if engine == "naive" else _fast
+    ids, steps, true, ties, flags = run(mesh, light, variant)
+    notes = {}
+    if variant == "literal":
+        n_vis = int(np.count_nonzero(flags))
+        notes["reset_reading_edges"] = mesh.n_edges if n_vis == 1 else 0
+    return make_silhouette(mesh, light, NAME, variant, engine, ids, steps, true, ties, flags, notes=notes)
