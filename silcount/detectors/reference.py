@@ -113,9 +113,12 @@ def _pair_kernel(flags, pair_faces):  # pragma: no cover - compiled
     return out[:k]
 
 
-def facing_flags(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
-    """Light-facing flags and ties, computed as :func:`~.base.counted_visibility` does, in its order."""
+def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """Light-facing flags and ties (of all faces, or of ``faces``), computed as
+    :func:`~.base.counted_visibility` does, in its operation order."""
     p0, nrm = _precompute(mesh)[:2]
+    if faces is not None:
+        p0, nrm = p0[faces], nrm[faces]
     src = light.direction if light.is_directional else light.position
     flags, ties = _facing_kernel(p0, nrm, np.asarray(src, dtype=np.float64), bool(light.is_directional))
     return flags, int(ties)

@@ -1,0 +1,119 @@
+"""Hybrid Silhouette Detection (HSD): HSD paper Sec. V and VI 6.3.
+
+HSD merges adjacent faces "that ha[ve] same normal vectors" into polygons and
+runs the Triangular Algorithm over the polygons' sides (:mod:`.ta`, with S
+starting empty as in the HSD paper's TA, Sec. 4.1).  The merge
+(:func:`silcount.coplanar.merge`) does not depend on the light and is cached
+per mesh, so a per-light query only runs TA over the polygons.
+
+* A polygon's visibility is that of its representative, the lowest-index
+  face of its region (``counted_visibility`` of that face, after one read of
+  the representative table).
+* Its sides are the region's boundary sides, in mesh side order; a region
+  with holes simply has several loops of sides.
+
+Variants
+--------
+``intended``
+    the ``tight`` merge: exactly coplanar faces with the same orientation
+    (criterion in :mod:`silcount.coplanar`); the result equals the
+    reference's on closed meshes and on open ones alike, since merged faces
+    always share their facing sign.
+``literal``
+    the paper's "same normal vectors" read loosely, as ``trimesh`` facets
+    (an angle tolerance): real silhouette edges can fall inside a polygon and
+    are lost (``notes['reference_edges_inside_polygons']``,
+    ``notes['missed_edges']``).
+
+Cost
+----
+The detection tally covers TA over the polygons only; the merge's steps and
+``true`` tally are in ``notes['merge']``.  The ``paper`` model uses the
+polygon mesh's parameters (``f_n`` polygons, ``e_n`` polygon edges, ``m``
+mean polygon sides), HSD paper Sec. 6.3.  Steps as TA: ``visibility`` (per
+polygon), ``search_S``, ``delete``, ``add``, ``shift``.  Boundary,
+non-manifold and inconsistently wound edges never lie inside a polygon and
+are handled as TA handles them.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..coplanar import Merge, merge
+from ..counting import Memory, OpCounter, plain
+from ..lights import Light
+from ..mesh import Mesh
+from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, visibility_true_cost
+from .edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
+from .reference import facing_flags, silhouette_edge_ids
+from .ta import array_true_tally, finish
+
+NAME = "hsd"
+CRITERION = {"intended": "tight", "literal": "facets"}
+REPRESENTATIVE_COST = {"read": 1}      # rep[p]
+
+
+def _naive(mesh: Mesh, light: Light, mg: Merge):
+    counter = OpCounter()
+    mem = MeshMemory(mesh, light, counter)
+    rep = Memory(mg.rep, counter)
+    start = Memory(mg.poly_start, counter)
+    side_from = Memory(mesh.side_from[mg.poly_sides], counter)
+    side_to = Memory(mesh.side_to[mg.poly_sides], counter)
+    V, P = mesh.n_vertices, mg.n_polygons
+    S = CountedEdgeArray(mg.poly_sides.size, counter)
+    steps = {"visibility": 0, "search_S": 0, "delete": 0, "add": 0, "shift": 0}
+    poly_facing = np.zeros(P, dtype=bool)
+    ties = 0
+    for p in range(P):                                          # for each polygon
+        visible, value = counted_visibility(mem, plain(rep[p]))  # its representative's visibility
+        steps["visibility"] += 1
+        ties += value == 0.0
+        poly_facing[p] = visible
+        if not visible:
+            continue
+        first, last = plain(start[p]), plain(start[p + 1])
+        for q in range(first, last):                            # for each boundary side
+            vp, vq = side_from[q], side_to[q]
+            steps["search_S"] += 1
+            pos = S.find(vq * V + vp)
+            if pos >= 0:
+                steps["shift"] += S.length.value - pos - 1
+                S.delete(pos)
+                steps["delete"] += 1
+            else:
+                S.append(vp * V + vq)
+                steps["add"] += 1
+    keys = S.keys()
+    pairs = np.stack([keys // V, keys % V], axis=1)
+    lo, hi = pairs.min(axis=1), pairs.max(axis=1)
+    ids = np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi)
+    return ids, pairs, steps, dict(counter), ties, poly_facing
+
+
+def _fast(mesh: Mesh, light: Light, mg: Merge):
+    poly_facing, ties = facing_flags(mesh, light, mg.rep)
+    keys = directed_keys(mesh.side_edge[mg.poly_sides], mesh.side_from[mg.poly_sides], mesh.side_to[mg.poly_sides])
+    r = replay(mg.poly_start, keys, poly_facing, 2 * mesh.n_edges)
+    ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
+    P = mg.n_polygons
+    steps = {"visibility": P, "search_S": r.searched, "delete": r.deleted, "add": r.added, "shift": r.shifted}
+    true: dict[str, int] = {}
+    add_scaled(true, visibility_true_cost(light), P)
+    add_scaled(true, REPRESENTATIVE_COST, P)
+    for kind, c in array_true_tally(r.searched, r.examined, r.deleted, r.added, r.shifted,
+                                    int(np.count_nonzero(poly_facing))).items():
+        true[kind] = true.get(kind, 0) + c
+    return ids, pairs, steps, true, ties, poly_facing
+
+
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """HSD's silhouette: TA over the merged polygons; the merge's cost is in ``notes['merge']``."""
+    mg = merge(mesh, CRITERION[variant])
+    run = _naive if engine == "naive" else _fast
+    ids, pairs, steps, true, ties, poly_facing = run(mesh, light, mg)
+    inside = int(np.count_nonzero(mg.interior[silhouette_edge_ids(mesh, light)]))
+    notes = {"merge": mg.summary(), "representative": "lowest-index face of each polygon",
+             "reference_edges_inside_polygons": inside}
+    return finish(mesh, light, NAME, variant, engine, ids, pairs, steps, true, ties, poly_facing[mg.region],
+                  paper_params=mg.paper_params(), notes=notes)
