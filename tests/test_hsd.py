@@ -1,0 +1,156 @@
+"""HSD: the exact coplanar merge, hand-counted tallies, the printed sum, naive == fast, agreement,
+and the failure of a loose ("facets") merge on a scanned mesh."""
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import silcount
+from silcount import models
+from silcount.coplanar import merge
+from silcount.mesh import from_polygons
+
+from strategies import closed_meshes, lights_for
+from test_ta import VIS_POINT, any_meshes
+
+SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def _subdivided_cube():
+    """The triangle cube with every triangle split 1-to-4 at edge midpoints (exactly coplanar: dyadic)."""
+    m = silcount.builtin_mesh("triangle_cube")
+    v = list(map(tuple, m.vertices))
+    tris = []
+    for a, b, c in m.faces:
+        ab, bc, ca = (tuple((m.vertices[x] + m.vertices[y]) / 2) for x, y in ((a, b), (b, c), (c, a)))
+        for p in (ab, bc, ca):
+            v.append(p)
+        i = {p: len(v) - 3 + k for k, p in enumerate((ab, bc, ca))}
+        tris += [[a, i[ab], i[ca]], [i[ab], b, i[bc]], [i[ca], i[bc], c], [i[ab], i[bc], i[ca]]]
+    return from_polygons(np.array(v), tris, name="cube48")
+
+
+def test_exact_merge_criterion():
+    # Two triangles on the plane x + y + z = 0 (exact in binary), sharing the edge 0-1 in
+    # opposite directions: merged.  Nudge the far vertex by one ulp off the plane: not merged.
+    v = np.array([[1.0, 0.0, -1.0], [0.0, 1.0, -1.0], [0.0, 0.0, 0.0], [1.0, 1.0, -2.0]])
+    f = [[0, 1, 2], [1, 0, 3]]
+    assert merge(from_polygons(v, f), "tight").n_polygons == 1
+    w = v.copy()
+    w[3, 2] = np.nextafter(-2.0, 0.0)
+    assert merge(from_polygons(w, f), "tight").n_polygons == 2
+    # same plane, opposite orientation (a fold back onto the plane): not merged
+    u = v.copy()
+    u[3] = [-1.0, -1.0, 2.0]
+    m = from_polygons(u, [[0, 1, 2], [0, 1, 3]])
+    assert merge(m, "tight").n_polygons == 2
+
+
+def test_triangle_cube_by_hand():
+    # The tight merge joins each quad's two triangles: 6 polygons, 6 interior diagonals,
+    # e_n = 18 - 6 = 12 polygon edges, m = 24 / 6 = 4.  Light (0,0,10): only the top polygon
+    # (faces 10, 11; representative 10) faces it; its boundary sides in side order are
+    # 1->5, 5->7 (face 10) and 7->3, 3->1 (face 11): searches of length 0, 1, 2, 3, all absent.
+    m = silcount.builtin_mesh("triangle_cube")
+    light = silcount.PointLight((0.0, 0.0, 10.0))
+    for engine in ("naive", "fast"):
+        res = silcount.detect(m, light, "hsd", engine=engine)
+        mg = res.notes["merge"]
+        assert (mg["polygons"], mg["interior_edges"], mg["polygon_edges"], mg["mean_sides"]) == (6, 6, 12, 4.0)
+        assert res.edges.tolist() == [[1, 3], [1, 5], [3, 7], [5, 7]]
+        assert res.oriented.tolist() == [[3, 1], [1, 5], [7, 3], [5, 7]]
+        assert res.steps == {"visibility": 6, "search_S": 4, "delete": 0, "add": 4, "shift": 0}
+        # true: 6 polygons x (1 R for the representative + VIS_POINT); 1 facing polygon (2 R);
+        # 4 sides (8 R, 4 M, 4 A); 6 examined (6 R, 6 C); 4 adds (4 M, 8 A, 4 W)
+        assert res.tally["true"] == {"read": 6 + 96 + 2 + 8 + 6, "add": 84 + 4 + 8, "mul": 54 + 4 + 4,
+                                     "cmp": 6 + 6, "write": 4}
+        # paper (HSD 6.3, polygon mesh f_n = 6, e_n = 12): 6 x (8A 10M 1C 8R); 4 searches x
+        # (12C 12R 1M); 4 adds x (1R 3W) as annotated in Sec. 6.1
+        assert res.tally["paper"] == {"add": 48, "mul": 64, "cmp": 6 + 48, "read": 48 + 48 + 4, "write": 12}
+
+
+def test_quad_cube_nothing_to_merge():
+    # perpendicular quads: no merge, so HSD is TA plus one representative read per polygon
+    m = silcount.builtin_mesh("quad_cube")
+    light = silcount.PointLight((0.0, 0.0, 10.0))
+    ta = silcount.detect(m, light, "ta", engine="naive")
+    hsd = silcount.detect(m, light, "hsd", engine="naive")
+    assert hsd.notes["merge"]["polygons"] == 6 and hsd.steps == ta.steps
+    assert hsd.tally["true"] == {**ta.tally["true"], "read": ta.tally["true"]["read"] + 6}
+
+
+def test_paper_worst_case_reproduces_printed_sum():
+    # HSD 6.3: f_n(8A+10M+1C+8R+(1(e_n C+e_n R+1M+1R+2W))), e_n = 6n: one side per face searched
+    # and deleted.  At n = 10: A 8n = 80; M 11n = 110; C (6n^2+n) = 610; R (6n^2+9n) = 690; W 2n = 20.
+    n = 10
+    steps = {"visibility": n, "search_S": n, "delete": n, "add": 0}
+    got = models.paper_tally("hsd2011-hsd", steps, {"f_n": n, "e_n": 6 * n, "m": 1})
+    assert got == {"add": 80, "mul": 110, "cmp": 610, "read": 690, "write": 20}
+
+
+def _same(a, b):
+    assert np.array_equal(a.edges, b.edges) and np.array_equal(a.oriented, b.oriented)
+    assert a.steps == b.steps and a.tally == b.tally and a.ties == b.ties and a.notes == b.notes
+
+
+@SETTINGS
+@given(data=st.data(), variant=st.sampled_from(["intended", "literal"]),
+       kind=st.sampled_from(["closed", "any", "cube48"]))
+def test_naive_equals_fast(data, variant, kind):
+    mesh = {"closed": lambda: data.draw(closed_meshes()), "any": lambda: data.draw(any_meshes()),
+            "cube48": _subdivided_cube}[kind]()
+    light = data.draw(lights_for(mesh))
+    _same(silcount.detect(mesh, light, "hsd", variant, "naive"), silcount.detect(mesh, light, "hsd", variant, "fast"))
+
+
+@settings(max_examples=30, deadline=None)
+@given(data=st.data())
+def test_intended_equals_reference(data):
+    mesh = data.draw(st.one_of(closed_meshes(), st.just(_subdivided_cube())))
+    light = data.draw(lights_for(mesh))
+    hsd = silcount.detect(mesh, light, "hsd")
+    ref = silcount.detect(mesh, light, "reference")
+    assert np.array_equal(hsd.edges, ref.edges) and np.array_equal(hsd.oriented, ref.oriented)
+
+
+def test_subdivided_cube_merges_back_to_six_squares():
+    mg = merge(_subdivided_cube(), "tight")
+    assert mg.n_polygons == 6 and mg.n_polygon_edges == 24    # each cube edge is split in two
+
+
+def test_featuretype_equals_reference(shared_mesh):
+    m = shared_mesh("featuretype.stl")
+    mg = merge(m, "tight")
+    assert mg.n_polygons < m.n_faces // 2                     # a CAD part: many coplanar faces
+    rng = np.random.default_rng(7)
+    for k in range(6):
+        d = rng.normal(size=3)
+        light = silcount.DirectionalLight(d) if k % 2 else silcount.PointLight(m.centre + 3 * m.bounding_radius * d / np.linalg.norm(d))
+        hsd = silcount.detect(m, light, "hsd")
+        ref = silcount.detect(m, light, "reference")
+        assert np.array_equal(hsd.edges, ref.edges) and np.array_equal(hsd.oriented, ref.oriented)
+        assert hsd.tally["paper"]["cmp"] < silcount.detect(m, light, "ta").tally["paper"]["cmp"]
+
+
+def test_facets_hide_real_silhouette_edges(shared_mesh):
+    # trimesh's facets merge nearly-coplanar triangles of the scanned cow.  Take the facet-interior
+    # edge whose two faces differ most in normal; a light along n_f - n_g lights f and not g, so the
+    # reference calls that edge a silhouette edge, which the literal (facets) HSD cannot report.
+    m = shared_mesh("cow.obj")
+    loose, tight = merge(m, "facets"), merge(m, "tight")
+    ms = m.manifold_sides
+    inside = np.flatnonzero(loose.interior & ~tight.interior)
+    assert inside.size > 0
+    n = m.face_normals / np.linalg.norm(m.face_normals, axis=1)[:, None]
+    f, g = m.side_face[ms[inside, 0]], m.side_face[ms[inside, 1]]
+    worst = int(np.argmin((n[f] * n[g]).sum(axis=1)))
+    light = silcount.DirectionalLight(n[f[worst]] - n[g[worst]])
+    edge = inside[worst]
+    ref = silcount.detect(m, light, "reference")
+    assert edge in set(ref.edge_ids.tolist())
+    literal = silcount.detect(m, light, "hsd", "literal")
+    assert edge not in set(literal.edge_ids.tolist())
+    assert literal.notes["reference_edges_inside_polygons"] >= 1 and literal.notes["missed_edges"] >= 1
+    intended = silcount.detect(m, light, "hsd", "intended")
+    assert np.array_equal(intended.edges, ref.edges)
+    assert intended.notes["reference_edges_inside_polygons"] == 0
