@@ -39,6 +39,20 @@ def write_png(path: str | os.PathLike, pixels: np.ndarray) -> Path:
     return p
 
 
+def write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write UTF-8 text atomically (temporary file in the same directory, then rename)."""
+    p = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return p
+
+
 def write_mask(path: str | os.PathLike, mask: np.ndarray) -> Path:
     """A boolean mask as an 8-bit grayscale PNG (255 = true)."""
     return write_png(path, np.where(np.asarray(mask, dtype=bool), 255, 0).astype(np.uint8))

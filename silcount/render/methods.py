@@ -1,0 +1,58 @@
+"""One entry point for the four mask methods: ``zpass``, ``zfail``, ``planar``, ``raycast``.
+
+Returns the mask, the coverage, what the shaded picture needs and the
+messages a user must see (open casters; the eye inside a shadow volume with
+z-pass, where the count is wrong by the number of volumes holding the eye).
+For ``planar`` the variant selects the shadow matrix (:mod:`.planar`); for
+the stencil methods it is passed to the detector.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import BadArgument
+from .camera import Camera
+from .planar import planar_mask
+from .raycast import raycast
+from .scene import Scene
+from .stencil import depth_pass, render_stencil
+
+METHODS = ("zpass", "zfail", "planar", "raycast")
+
+
+@dataclass
+class Rendered:
+    mask: np.ndarray
+    coverage: np.ndarray
+    tri_id: np.ndarray
+    eye_depth: np.ndarray
+    messages: list[str] = field(default_factory=list)
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def render_method(scene: Scene, method: str, detector: str = "reference", variant: str = "intended") -> Rendered:
+    if method not in METHODS:
+        raise BadArgument(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    camera = Camera.of(scene)
+    if method == "raycast":
+        rc = raycast(scene)
+        return Rendered(rc.mask, rc.coverage, rc.tri_id, rc.depth_t)
+    if method == "planar":
+        sd = depth_pass(scene, camera)
+        mask, _ = planar_mask(scene, variant, depth=sd)
+        return Rendered(mask, sd.coverage, sd.tri_id, camera.eye_depth_from_ndc_z(sd.depth))
+    res = render_stencil(scene, method, detector, variant)
+    messages = list(res.warnings)
+    if res.eye_in_shadow:
+        if method == "zpass":
+            messages.append("the eye is inside a shadow volume: z-pass counts from the eye, and the near plane cuts "
+                            "the volume, so every count is off and this mask is wrong; use --method zfail")
+        else:
+            messages.append("the eye is inside a shadow volume (z-fail counts from infinity and is unaffected)")
+    return Rendered(res.mask, res.coverage, res.scene.tri_id, camera.eye_depth_from_ndc_z(res.scene.depth),
+                    messages, res.timings)
+
+
+__all__ = ["METHODS", "Rendered", "render_method"]
