@@ -182,6 +182,10 @@ def _parse_off(text: str, path: Path) -> tuple[np.ndarray, list[list[int]]]:
             faces.append([int(x) for x in rec[1:k + 1]])
     except (ValueError, IndexError, OverflowError) as exc:
         raise UnreadableInput(f"{path}: corrupt OFF: {exc}") from None
+    for k, poly in enumerate(faces):
+        bad = [i for i in poly if not 0 <= i < nv]
+        if bad:
+            raise InvalidMesh(f"{path}: face {k} indexes vertex {bad[0]}, but the file has {nv} vertices")
     return verts, faces
 
 
@@ -267,6 +271,9 @@ def _ply_header(path: Path, size: int) -> tuple[int, int]:
             elif parts[0] == "property":
                 if not elements:
                     raise ValueError("a property before any element")
+                types = parts[2:4] if parts[1:2] == ["list"] else parts[1:2]
+                if len(parts) < (5 if parts[1:2] == ["list"] else 3) or any(t not in _PLY_SIZES for t in types):
+                    raise ValueError(f"malformed property line {line.strip()[:60]!r}")
                 elements[-1][2].append(parts[1:])
     except (UnicodeDecodeError, IndexError, ValueError) as exc:
         raise UnreadableInput(f"{path}: corrupt PLY header: {exc}") from None
@@ -281,10 +288,10 @@ def _ply_header(path: Path, size: int) -> tuple[int, int]:
         for _, n, props in elements:
             per = 0
             for p in props:
-                if p[0] == "list" and len(p) >= 3:
-                    per += _PLY_SIZES.get(p[1], 1) + 3 * _PLY_SIZES.get(p[2], 1)
+                if p[0] == "list":
+                    per += _PLY_SIZES[p[1]] + 3 * _PLY_SIZES[p[2]]
                 else:
-                    per += _PLY_SIZES.get(p[0], 1)
+                    per += _PLY_SIZES[p[0]]
             minimum += n * per
         if size - body_at < minimum:
             raise UnreadableInput(f"{path}: truncated binary PLY: the header's {nv} vertices and {nf} faces "
