@@ -1,0 +1,437 @@
+"""Extended Edge Silhouette Detection (EESD): EESD paper Sec. 3.3 (algorithm) and 5.3 (costs).
+
+As printed::
+
+    For e1=1(v1v2) to Number Of Edges
+      v1'=v1+ Δv1
+      R=ray of light source to v1'
+      for f=1 to Number of Faces
+        if Intersection(R,f)=false then
+          Add v1v2 to S
+
+"If it has an intersection with one of the faces of occluder it is not a
+silhouette but on the contrary, if it doesn't have any intersection with
+occluder it is a silhouette" (Sec. 3.3).
+
+The outward point (``extend``; the paper leaves Δv1's direction open)
+---------------------------------------------------------------------
+silcount offsets the edge's *midpoint* ``M = (v1 + v2) / 2`` rather than
+``v1``: next to ``v1`` the ray passes through the fan of every face around
+``v1``, next to the midpoint only the edge's own faces are near.  With
+``e = v2 - v1`` and ``d`` the viewing direction (``M - L`` for a point light
+at ``L``; the light's direction for a directional light), ``w = d x e`` is
+the normal of the plane through the edge that contains the light rays, so it
+points across the edge *as seen from the light*.  ``c`` is the corner that
+follows the edge in its first face ``f1`` (first side in side order).  The
+point is moved to the side of that plane opposite ``c``::
+
+    P = M + sgn * EPS * sqrt((e.e) / (w.w)) * w,     sgn = -1 if (c - M).w > 0 else +1
+
+i.e. by ``EPS = 1e-6`` edge lengths, perpendicular to the edge in the image
+plane, away from ``f1``.  On a closed mesh, at a silhouette edge both faces
+lie on ``c``'s side, so ``P`` escapes locally; at any other edge the second
+face lies on ``P``'s side and the ray meets it.  A tie ``(c - M).w == 0``
+moves towards ``+w``.  An edge seen end-on (``w = 0``) gives ``P = NaN``, a
+ray that meets nothing.
+
+The ray (``ray``): a point light casts from ``L`` in direction ``P - L``,
+hits counting for ``t`` in ``(0, inf)`` ("from light source to v1' ... and
+extend to infinity"); a directional light's ray is the whole line through
+``P`` along the light direction, ``t`` in ``(-inf, inf)`` (the source is at
+infinity).
+
+Variants
+--------
+``intended``
+    ``Intersection(R, f)`` is a real ray-polygon test: Moller-Trumbore on the
+    face's fan triangles ``(p0, p_k, p_k+1)`` (:mod:`silcount.raytrace`, tie
+    rule there), and the edge is added once, after the face loop, iff no face
+    is hit (a hit counter, as VnV's).  On convex meshes this is the reference
+    silhouette; on non-convex ones a silhouette edge whose ``P`` is hidden
+    behind another part of the mesh is missed (a subset of the reference,
+    ``notes['missed_edges']``).
+``literal``
+    As printed: "if aR_x+bR_y+cR_z+d=0 then the ray intersected the plane"
+    (Sec. 5.3), evaluated at the ray's point ``R = v1'`` (our ``P``) and
+    compared exactly with zero, with the plane ``(a, b, c) = n``,
+    ``d = -(n . p0)`` of each face precomputed (step ``plane``, which the paper
+    assumes done: "calculation of equation of all planes", Sec. 5); and
+    ``Add v1v2 to S`` runs inside the face loop for every face whose plane
+    misses ``P``.  S then holds each edge once per such face:
+    ``notes['duplicates_in_S']`` and ``notes['on_plane_pairs']``.
+
+Boundary and non-manifold edges
+-------------------------------
+EESD never evaluates light-facing.  A boundary edge has only ``f1``, so ``P``
+escapes locally and the edge is reported unless another part of the mesh
+blocks the ray, whether its face faces the light or not (the reference
+requires a light-facing face).  A non-manifold edge is reported iff none of
+its other faces (nor anything else) covers ``P`` on the far side of ``f1``.
+``oriented`` (for extrusion) uses the reference's facing flags, uncounted.
+
+Steps and ``true`` costs (docs/counting.md)
+-------------------------------------------
+``extend`` and ``ray`` (every edge), ``intersection`` (every edge-face pair),
+``add`` (every edge added), as in ``models/eesd2012-eesd.toml``; ``true``-only:
+``triangle_test`` (every edge-fan-triangle pair) and ``check_hits`` (every
+edge) for ``intended``, ``plane`` (every face) for ``literal``.  Every counted
+routine is branch-free (all values computed, then a fixed number of
+compares), so its cost is a constant that the ``fast`` engine charges per run;
+square roots count as kind ``sqrt``, divisions as ``div``.
+
+Engines
+-------
+``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
+same points with numpy in the same order of operations and finds the edges
+with :class:`silcount.raytrace.RayTracer`, casting only the rays that matter:
+a ray that meets one of its own edge's faces (the same Moller-Trumbore test,
+bit for bit, via ``hits_triangle``) is blocked in the full loop too, so only
+the rays that miss their own faces (the candidate silhouette edges, about
+``sqrt(F)`` of them) are cast through the grid.  ``literal``'s plane test has
+no spatial shortcut (an infinite plane can pass through any ``P``), so its
+fast engine counts the exact-zero pairs with a compiled ``E x F`` loop and
+refuses meshes above ``LITERAL_PAIR_LIMIT`` pairs.
+"""
+from __future__ import annotations
+
+import math
+import weakref
+from functools import lru_cache
+
+import numba as nb
+import numpy as np
+
+from ..counting import Memory, Num, OpCounter, plain
+from ..errors import BadArgument
+from ..lights import DirectionalLight, Light
+from ..mesh import Mesh, from_polygons
+from ..raytrace import RayTracer
+from .base import MeshMemory, Silhouette, add_scaled, make_silhouette
+from .reference import facing_flags
+
+NAME = "eesd"
+EPS = 1e-6                      # the outward offset, in edge lengths
+LITERAL_PAIR_LIMIT = 20_000_000_000
+
+CHECK_COST = {"cmp": 1}         # hits == 0
+ADD_COST = {"write": 1}         # S[k] = edge
+HIT_COUNT_COST = {"add": 1}     # hits = hits + hit
+FACE_READS = 10                 # face_start[f], [f+1]; p0 and p1: index and 3 coordinates each
+TRIANGLE_READS = 4              # the next corner: index and 3 coordinates
+PAIR_LITERAL_COST = {"read": 4, "mul": 3, "add": 3, "cmp": 1}   # a, b, c, d; aPx+bPy+cPz+d == 0
+
+
+# ---------------------------------------------------------------- counted routines (naive engine)
+
+def _sqrt(x: Num) -> Num:
+    x.counter["sqrt"] += 1
+    return Num(math.sqrt(x.value) if x.value >= 0 else math.nan, x.counter)
+
+
+def _div(a, b: Num) -> Num:
+    """IEEE division (inf/NaN instead of an exception), one ``div``."""
+    b.counter["div"] += 1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return Num(float(np.float64(plain(a)) / np.float64(b.value)), b.counter)
+
+
+def counted_outward_point(v1, v2, c, light_vals, directional: bool) -> list[Num]:
+    """The ``extend`` step: ``P`` from the edge's vertices, the far corner ``c`` of f1 and the light."""
+    m = [(v1[k] + v2[k]) * 0.5 for k in range(3)]
+    e = [v2[k] - v1[k] for k in range(3)]
+    d = light_vals if directional else [m[k] - light_vals[k] for k in range(3)]
+    w = [d[1] * e[2] - d[2] * e[1], d[2] * e[0] - d[0] * e[2], d[0] * e[1] - d[1] * e[0]]
+    g = [c[k] - m[k] for k in range(3)]
+    side = g[0] * w[0] + g[1] * w[1] + g[2] * w[2]
+    sgn = -1.0 if side > 0.0 else 1.0
+    ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+    ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    scale = EPS * _sqrt(_div(ee, ww)) * sgn
+    return [m[k] + w[k] * scale for k in range(3)]
+
+
+def counted_ray(p, light_vals, directional: bool):
+    """The ``ray`` step: (origin, direction, t_min, t_max) of the ray through ``p``."""
+    if directional:
+        return p, light_vals, -math.inf, math.inf
+    return light_vals, [p[k] - light_vals[k] for k in range(3)], 0.0, math.inf
+
+
+def counted_triangle_hit(o, d, a, b, c, t_min: float, t_max: float) -> bool:
+    """Moller-Trumbore on counting arithmetic, in :mod:`silcount.raytrace`'s order; branch-free."""
+    e1 = [b[k] - a[k] for k in range(3)]
+    e2 = [c[k] - a[k] for k in range(3)]
+    p = [d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]]
+    det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2]
+    inv = _div(1.0, det)
+    s = [o[k] - a[k] for k in range(3)]
+    u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv
+    q = [s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]]
+    v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv
+    t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv
+    checks = [det != 0.0, u >= 0.0, v >= 0.0, u + v <= 1.0, t > t_min, t < t_max]
+    return all(checks)
+
+
+def counted_plane(mem: MeshMemory, f: int) -> list[Num]:
+    """The literal ``plane`` step: ``(a, b, c, d)`` of face ``f`` from its first three corners."""
+    s = plain(mem.face_start[f])
+    idx = [plain(mem.corners[s + k]) for k in range(3)]
+    pts = [[mem.vertices[3 * i + k] for k in range(3)] for i in idx]
+    e1 = [pts[1][k] - pts[0][k] for k in range(3)]
+    e2 = [pts[2][k] - pts[0][k] for k in range(3)]
+    n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+    return n + [0.0 - (n[0] * pts[0][0] + n[1] * pts[0][1] + n[2] * pts[0][2])]
+
+
+@lru_cache(maxsize=None)
+def _routine_costs(directional: bool) -> dict[str, tuple[tuple[str, int], ...]]:
+    """The fixed ``true`` cost of each counted routine, measured by running it once."""
+    out = {}
+    counter = OpCounter()
+    nums = lambda xs: [Num(float(x), counter) for x in xs]  # noqa: E731
+    light_vals = nums([0.0, 0.0, 1.0] if directional else [0.0, 0.0, 5.0])
+    counted_outward_point(nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]), light_vals, directional)
+    out["extend"], counter = tuple(sorted(counter.items())), OpCounter()
+    light_vals = nums([0.0, 0.0, 1.0] if directional else [0.0, 0.0, 5.0])
+    o, d, lo, hi = counted_ray(nums([0.5, 0.5, 0.0]), light_vals, directional)
+    out["ray"], counter = tuple(sorted(counter.items())), OpCounter()
+    counted_triangle_hit(nums([0.2, 0.2, 5]), nums([0, 0, -1]), nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]),
+                         lo, hi)
+    out["triangle_test"], counter = tuple(sorted(counter.items())), OpCounter()
+    tri = from_polygons(np.eye(3), [[0, 1, 2]])
+    counted_plane(MeshMemory(tri, DirectionalLight((0, 0, 1)), counter), 0)
+    out["plane"] = tuple(sorted(counter.items()))
+    return out
+
+
+def routine_cost(name: str, light: Light) -> dict[str, int]:
+    """``true`` cost of one run of ``extend``, ``ray``, ``triangle_test`` or ``plane`` for this kind of light."""
+    return dict(_routine_costs(isinstance(light, DirectionalLight))[name])
+
+
+# ---------------------------------------------------------------- mesh data
+
+_CACHE: "weakref.WeakKeyDictionary[Mesh, dict]" = weakref.WeakKeyDictionary()
+
+
+def _mesh_data(mesh: Mesh) -> dict:
+    """Per-mesh arrays (cached): each edge's far corner in f1, fan triangles, their faces, the tracer."""
+    got = _CACHE.get(mesh)
+    if got is None:
+        start, order = mesh.edge_sides
+        first_side = order[start[:-1]]
+        apex = mesh.side_to[mesh.side_next[first_side]]
+        fan = mesh.face_sizes - 2
+        tri_face = np.repeat(np.arange(mesh.n_faces, dtype=np.int64), fan)
+        tri_start = np.zeros(mesh.n_faces + 1, dtype=np.int64)
+        np.cumsum(fan, out=tri_start[1:])
+        k = np.arange(tri_face.size) - tri_start[tri_face] + 1
+        s0 = mesh.face_start[tri_face]
+        tri_idx = np.stack([mesh.corners[s0], mesh.corners[s0 + k], mesh.corners[s0 + k + 1]], axis=1)
+        got = {"apex": apex, "tri_face": tri_face, "tri_start": tri_start, "tri_idx": tri_idx}
+        _CACHE[mesh] = got
+    return got
+
+
+def _tracer(mesh: Mesh) -> RayTracer:
+    data = _mesh_data(mesh)
+    if "tracer" not in data:
+        data["tracer"] = RayTracer(mesh.vertices[data["tri_idx"]])
+    return data["tracer"]
+
+
+def _light_vals(light: Light) -> np.ndarray:
+    return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
+
+
+def outward_points_and_rays(mesh: Mesh, light: Light):
+    """Vectorised ``extend`` and ``ray`` for every edge, in the counted routines' order of operations.
+
+    Returns ``P`` (E, 3), ray origins (E, 3), directions (E, 3), and scalar ``t_min``, ``t_max``.
+    """
+    V = mesh.vertices
+    v1, v2 = V[mesh.edges[:, 0]], V[mesh.edges[:, 1]]
+    c = V[_mesh_data(mesh)["apex"]]
+    L = _light_vals(light)
+    directional = isinstance(light, DirectionalLight)
+    m = (v1 + v2) * 0.5
+    e = v2 - v1
+    d = np.broadcast_to(L, m.shape) if directional else m - L
+    w = np.stack([d[:, 1] * e[:, 2] - d[:, 2] * e[:, 1], d[:, 2] * e[:, 0] - d[:, 0] * e[:, 2],
+                  d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0]], axis=1)
+    g = c - m
+    side = g[:, 0] * w[:, 0] + g[:, 1] * w[:, 1] + g[:, 2] * w[:, 2]
+    sgn = np.where(side > 0.0, -1.0, 1.0)
+    ee = e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1] + e[:, 2] * e[:, 2]
+    ww = w[:, 0] * w[:, 0] + w[:, 1] * w[:, 1] + w[:, 2] * w[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = EPS * np.sqrt(ee / ww) * sgn
+        p = m + w * scale[:, None]
+    if directional:
+        return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
+    return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
+
+
+# ---------------------------------------------------------------- engines
+
+def _naive(mesh: Mesh, light: Light, variant: str):
+    counter = OpCounter()
+    mem = MeshMemory(mesh, light, counter)
+    directional = isinstance(light, DirectionalLight)
+    table = Memory(mesh.edges.reshape(-1), counter)
+    apex = Memory(_mesh_data(mesh)["apex"], counter)
+    E, F = mesh.n_edges, mesh.n_faces
+    S = Memory(np.zeros(max(E * F, 1), dtype=np.int64), counter)
+    out: list[int] = []
+    steps = {"extend": 0, "ray": 0, "intersection": 0, "add": 0}
+    point = lambda i: [mem.vertices[3 * plain(i) + k] for k in range(3)]  # noqa: E731
+    if variant == "literal":
+        planes = Memory(np.zeros(4 * F), counter)
+        for f in range(F):
+            for k, x in enumerate(counted_plane(mem, f)):
+                planes[4 * f + k] = x
+        steps["plane"] = F
+        on_plane = 0
+    else:
+        steps.update(triangle_test=0, check_hits=0)
+    for e in range(E):                                               # For e1 = 1 (v1v2) to Number Of Edges
+        v1, v2, c = point(table[2 * e]), point(table[2 * e + 1]), point(apex[e])
+        light_vals = [mem.light[k] for k in range(3)]
+        p = counted_outward_point(v1, v2, c, light_vals, directional)   # v1' = v1 + Δv1
+        steps["extend"] += 1
+        o, d, t_min, t_max = counted_ray(p, light_vals, directional)    # R = ray of light source to v1'
+        steps["ray"] += 1
+        hits = Num(0, counter)
+        for f in range(F):                                           # for f = 1 to Number of Faces
+            steps["intersection"] += 1                               # if Intersection(R, f) = false then
+            if variant == "literal":
+                a, b, cc, dd = (planes[4 * f + k] for k in range(4))
+                if a * p[0] + b * p[1] + cc * p[2] + dd == 0.0:
+                    on_plane += 1
+                    continue
+                S[len(out)] = e                                      # Add v1v2 to S (every missed face)
+                out.append(e)
+                steps["add"] += 1
+                continue
+            lo, hi = plain(mem.face_start[f]), plain(mem.face_start[f + 1])
+            first = point(mem.corners[lo])
+            prev = point(mem.corners[lo + 1])
+            for s in range(lo + 2, hi):                              # the face's fan triangles
+                nxt = point(mem.corners[s])
+                hits = hits + counted_triangle_hit(o, d, first, prev, nxt, t_min, t_max)
+                steps["triangle_test"] += 1
+                prev = nxt
+        if variant == "intended":
+            steps["check_hits"] += 1
+            if hits == 0:                                            # no face met: a silhouette edge
+                S[len(out)] = e
+                out.append(e)
+                steps["add"] += 1
+    ids = np.asarray(out, dtype=np.int64)
+    notes = {"on_plane_pairs": on_plane} if variant == "literal" else {}
+    return ids, steps, dict(counter), notes
+
+
+def _fast_intended(mesh: Mesh, light: Light):
+    E, F = mesh.n_edges, mesh.n_faces
+    data = _mesh_data(mesh)
+    p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
+    # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
+    #    in the full face loop, so those edges are settled without casting.
+    start, order = mesh.edge_sides
+    side_face = mesh.side_face[order]
+    side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
+    n_tri = np.diff(data["tri_start"])[side_face]
+    pair_edge = np.repeat(side_edge, n_tri)
+    pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
+        np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri))
+    tracer = _tracer(mesh)
+    local = tracer.hits_triangle(origins[pair_edge], directions[pair_edge], pair_tri, t_min, t_max)
+    blocked = np.zeros(E, dtype=bool)
+    blocked[pair_edge[local]] = True
+    # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.
+    cand = np.flatnonzero(~blocked)
+    blocked[cand] = tracer.any_hit(origins[cand], directions[cand], t_min, t_max)
+    ids = np.flatnonzero(~blocked)
+    T = data["tri_face"].size
+    steps = {"extend": E, "ray": E, "intersection": E * F, "add": int(ids.size), "triangle_test": E * T,
+             "check_hits": E}
+    true: dict[str, int] = {}
+    add_scaled(true, routine_cost("extend", light), E)
+    add_scaled(true, routine_cost("ray", light), E)
+    add_scaled(true, {"read": 2}, E)                                 # the edge's two vertex indices
+    add_scaled(true, {"read": 1 + 3 + 3 + 3 + 3}, E)                 # far corner index; v1, v2, c, light
+    add_scaled(true, {"read": FACE_READS}, E * F)
+    add_scaled(true, routine_cost("triangle_test", light), E * T)
+    add_scaled(true, {"read": TRIANGLE_READS}, E * T)
+    add_scaled(true, HIT_COUNT_COST, E * T)
+    add_scaled(true, CHECK_COST, E)
+    add_scaled(true, ADD_COST, ids.size)
+    return ids, steps, true, {"rays_cast": int(cand.size)}
+
+
+@nb.njit(cache=True, parallel=True)
+def _on_plane_counts(p, planes):  # pragma: no cover - compiled
+    E, F = p.shape[0], planes.shape[0]
+    out = np.zeros(E, dtype=np.int64)
+    for e in nb.prange(E):
+        px, py, pz = p[e, 0], p[e, 1], p[e, 2]
+        z = 0
+        for f in range(F):
+            z += planes[f, 0] * px + planes[f, 1] * py + planes[f, 2] * pz + planes[f, 3] == 0.0
+        out[e] = z
+    return out
+
+
+def face_planes(mesh: Mesh) -> np.ndarray:
+    """(F, 4) ``a, b, c, d`` of every face, in :func:`counted_plane`'s order of operations."""
+    p0 = mesh.face_p0
+    s = mesh.face_start[:-1]
+    e1 = mesh.vertices[mesh.corners[s + 1]] - p0
+    e2 = mesh.vertices[mesh.corners[s + 2]] - p0
+    n = np.stack([e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1], e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
+                  e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]], axis=1)
+    d = 0.0 - (n[:, 0] * p0[:, 0] + n[:, 1] * p0[:, 1] + n[:, 2] * p0[:, 2])
+    return np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
+
+
+def _fast_literal(mesh: Mesh, light: Light):
+    E, F = mesh.n_edges, mesh.n_faces
+    if E * F > LITERAL_PAIR_LIMIT:
+        raise BadArgument(f"eesd literal needs the exact plane test of all {E * F:,} edge-face pairs "
+                          f"(limit {LITERAL_PAIR_LIMIT:,}); use variant 'intended' on a mesh this size")
+    p = np.ascontiguousarray(outward_points_and_rays(mesh, light)[0])
+    zeros = _on_plane_counts(p, face_planes(mesh))
+    adds_per_edge = F - zeros
+    ids = np.repeat(np.arange(E, dtype=np.int64), adds_per_edge)
+    adds = int(adds_per_edge.sum())
+    steps = {"extend": E, "ray": E, "intersection": E * F, "add": adds, "plane": F}
+    true: dict[str, int] = {}
+    add_scaled(true, routine_cost("plane", light), F)
+    add_scaled(true, {"write": 4}, F)                                # the plane table
+    add_scaled(true, routine_cost("extend", light), E)
+    add_scaled(true, routine_cost("ray", light), E)
+    add_scaled(true, {"read": 2 + 1 + 3 + 3 + 3 + 3}, E)
+    add_scaled(true, PAIR_LITERAL_COST, E * F)
+    add_scaled(true, ADD_COST, adds)
+    return ids, steps, true, {"on_plane_pairs": int(zeros.sum())}
+
+
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """EESD's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
+    if engine == "naive":
+        ids, steps, true, notes = _naive(mesh, light, variant)
+    elif variant == "literal":
+        ids, steps, true, notes = _fast_literal(mesh, light)
+    else:
+        ids, steps, true, notes = _fast_intended(mesh, light)
+    flags, ties = facing_flags(mesh, light)
+    unique = np.unique(ids)
+    if variant == "literal":
+        notes["S_length"] = int(ids.size)
+        notes["duplicates_in_S"] = int(ids.size - unique.size)
+    return make_silhouette(mesh, light, NAME, variant, engine, unique, steps, true, ties, flags, notes=notes)
+
+
+__all__ = ["detect", "EPS", "outward_points_and_rays", "face_planes", "routine_cost", "counted_triangle_hit"]
