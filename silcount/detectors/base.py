@@ -115,15 +115,16 @@ def oriented_edges(mesh: Mesh, edge_ids: np.ndarray, is_facing: np.ndarray) -> n
     out = mesh.edges[edge_ids].copy()
     if edge_ids.size == 0:
         return out
-    side_facing = is_facing[mesh.side_face]
-    # first facing side per edge, else first side
+    # the sides of the requested edges only (O(k), not a sort of all sides), in side order
     start, order = mesh.edge_sides
-    rank = np.where(side_facing[order], 0, 1)
-    key = mesh.side_edge[order] * 2 + rank
-    first = order[np.lexsort((np.arange(order.size), key))]
-    # after sorting by (edge, rank), the first entry of each edge block
-    first_of_edge = first[start[:-1]]
-    pick = first_of_edge[edge_ids]
+    cnt = mesh.edge_valence[edge_ids]
+    group = np.cumsum(cnt) - cnt
+    local = np.arange(int(cnt.sum())) - np.repeat(group, cnt)
+    sides = order[np.repeat(start[edge_ids], cnt) + local]
+    # first facing side per edge, else first side: minimum of (not facing, position in the edge)
+    rank = np.where(is_facing[mesh.side_face[sides]], 0, 1) * (int(cnt.max()) + 1) + local
+    best = np.minimum.reduceat(rank, group) % (int(cnt.max()) + 1)
+    pick = sides[group + best]
     out[:, 0] = mesh.side_from[pick]
     out[:, 1] = mesh.side_to[pick]
     return out
