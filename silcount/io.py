@@ -336,7 +336,9 @@ def _size_estimate(path: Path, ext: str, size: int) -> tuple[int, int]:
     """(vertices, faces) as cheaply as the format allows, for the memory check."""
     if ext == ".obj":
         nv, nf = _count_in_file(path, (b"\nv ", b"\nf "))
-        return nv + 1, nf + 1  # the first line has no newline before it
+        with open(path, "rb") as fh:
+            first = fh.read(2)  # the first line has no newline before it
+        return nv + (first == b"v "), nf + (first == b"f ")
     if ext == ".stl":
         kind, n = _stl_kind(path, size)
         if kind == "ascii":
@@ -381,6 +383,9 @@ def load_mesh(path: str | os.PathLike, max_memory: int | None = None) -> Mesh:
                 verts, faces = (_parse_obj if ext == ".obj" else _parse_off)(_text(data, p, ext[1:].upper()), p)
         else:
             verts, faces = _load_trimesh(p)
+        if ext == ".ply" and (len(verts) < nv or len(faces) < nf):
+            raise UnreadableInput(f"{p}: truncated PLY: the header promises {nv} vertices and {nf} faces, "
+                                  f"the body has {len(verts)} and {len(faces)}")
     except PermissionError:
         raise UnreadableInput(f"{p}: permission denied") from None
     except OSError as exc:

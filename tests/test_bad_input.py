@@ -1,0 +1,280 @@
+"""Bad input, case by case: one line on stderr naming the file and the problem, a documented exit code
+(2 bad arguments, 3 unreadable input, 4 invalid mesh), no traceback, no half-written output.
+Dubious but usable meshes and lights are audited, with warnings in the report (exit 0).
+
+Every bad file is generated here, in tmp_path.
+"""
+from __future__ import annotations
+
+import io
+import json
+import struct
+import subprocess
+import sys
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from silcount.cli import main
+from silcount.formats import write_atomic
+
+from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
+
+QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+QUAD_CUBE_F = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+
+
+def run_cli(*argv: str) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        rc = main(list(argv))
+    return rc, out.getvalue(), err.getvalue()
+
+
+def audit(path: Path, *extra: str) -> tuple[int, str, str]:
+    return run_cli("audit", str(path), "--detectors", "reference", "--random-lights", "2", "--quiet", *extra)
+
+
+def assert_refused(path: Path, code: int, *words: str, extra: tuple[str, ...] = ()) -> str:
+    """Exit ``code``, nothing on stdout, one stderr line naming the file and containing each of ``words``."""
+    rc, out, err = audit(path, *extra)
+    assert rc == code, err
+    assert out == ""
+    assert err.count("\n") == 1 and err.endswith("\n"), err
+    assert "Traceback" not in err
+    assert str(path) in err, err
+    for w in words:
+        assert w in err, err
+    return err
+
+
+def audit_json(path: Path, *extra: str) -> dict:
+    rc, out, err = audit(path, "--format", "json", *extra)
+    assert rc == 0, err
+    return json.loads(out)
+
+
+# ---- unreadable input: exit 3 ------------------------------------------------------------
+def test_missing_file(tmp_path):
+    assert_refused(tmp_path / "nope.obj", 3, "no such file")
+
+
+def test_directory(tmp_path):
+    d = tmp_path / "dir.obj"
+    d.mkdir()
+    assert_refused(d, 3, "directory")
+
+
+def test_empty_file(tmp_path):
+    assert_refused(write(tmp_path, "e.obj", b""), 3, "empty")
+
+
+def test_unknown_extension(tmp_path):
+    assert_refused(write(tmp_path, "m.xyz", tetra_bytes("obj")), 3, "unknown extension")
+
+
+@pytest.mark.parametrize("name,data,word", [
+    ("trunc.obj", obj_text(TETRA_V, TETRA_F)[:-4], "a face needs at least 3 vertices"),   # cut inside the last face
+    ("corrupt.obj", "v 1 2 x\nf 1 2 3\n", "line 1"),
+    ("trunc.off", "OFF\n4 4 0\n1 1 1\n1 -1 -1\n", "promises 4 vertices and 4 faces"),
+    ("trunc.stl", tetra_bytes("stl")[:-40], "ASCII STL"),
+    ("trunc2.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2 3\n", "truncated ASCII STL"),
+    ("corrupt.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2\n", "vertex needs 3 coordinates"),
+    ("trunc_bin.stl", tetra_bytes("stl_bin")[:-7], "promises 4 triangles"),
+    ("short_bin.stl", b"\x01" * 50, "truncated STL"),
+    ("trunc_bin.ply", tetra_bytes("ply_bin")[:-10], "truncated binary PLY"),
+    ("nomagic.ply", b"plx\nformat ascii 1.0\nend_header\n", "not a PLY file"),
+    ("badformat.ply", tetra_bytes("ply").replace(b"format ascii", b"format weird"), "unknown format"),
+    ("trunc.ply", tetra_bytes("ply")[:-30], "truncated PLY"),
+])
+def test_truncated_or_corrupt_files(tmp_path, name, data, word):
+    assert_refused(write(tmp_path, name, data), 3, word)
+
+
+@pytest.mark.parametrize("name,data,word", [
+    ("png.obj", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(40), "binary data"),
+    ("readme.obj", "# Title\n\nSome prose about meshes.\n", "no vertex ('v') or face ('f') statements"),
+    ("json.off", '{"not": "a mesh"}\n', "no OFF header"),
+    ("text.ply", "hello\n", "not a PLY file"),
+    ("text.stl", "hello world, this is not an STL file at all; it is long enough to look binary" * 2,
+     "corrupt or truncated binary STL"),
+])
+def test_a_file_that_is_not_a_mesh(tmp_path, name, data, word):
+    assert_refused(write(tmp_path, name, data), 3, word)
+
+
+# ---- invalid mesh: exit 4 ----------------------------------------------------------------
+@pytest.mark.parametrize("bad", ["nan", "inf", "-inf"])
+def test_nan_or_inf_coordinates(tmp_path, bad):
+    text = obj_text(TETRA_V, TETRA_F).replace("v 1.0 1.0 1.0", f"v 1.0 {bad} 1.0")
+    assert_refused(write(tmp_path, "nan.obj", text), 4, "NaN or Inf")
+
+
+def test_nan_in_binary_stl(tmp_path):
+    data = bytearray(tetra_bytes("stl_bin"))
+    data[84 + 12:84 + 16] = struct.pack("<f", float("nan"))   # first vertex x of the first triangle
+    assert_refused(write(tmp_path, "nan.stl", bytes(data)), 4, "NaN or Inf")
+
+
+@pytest.mark.parametrize("name,data", [
+    ("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
+    ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n"),
+    ("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
+])
+def test_faces_that_index_missing_vertices(tmp_path, name, data):
+    assert_refused(write(tmp_path, name, data), 4, "missing vertex" if name.endswith(".obj") else "indexes vertex")
+
+
+def test_faces_index_missing_vertices_in_ply(tmp_path):
+    text = tetra_bytes("ply").decode().replace("3 1 3 2", "3 1 3 7")
+    err = assert_refused(write(tmp_path, "idx.ply", text), 4)
+    assert "vertex 7" in err
+
+
+@pytest.mark.parametrize("name,data", [
+    ("verts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+    ("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"),
+    ("zero.stl", struct.pack("<80sI", b"binary", 0)),
+])
+def test_zero_faces(tmp_path, name, data):
+    assert_refused(write(tmp_path, name, data), 4, "no faces")
+
+
+def test_every_face_degenerate(tmp_path):
+    assert_refused(write(tmp_path, "deg.obj", "v 0 0 0\nv 1 0 0\nv 0 0 0\nf 1 2 3\n"), 4, "degenerate")
+
+
+def test_too_large_for_memory_refused_early_with_the_estimate(tmp_path, monkeypatch):
+    p = write(tmp_path, "big.obj", tetra_bytes("obj"))
+    err = assert_refused(p, 4, "too large", "4 faces", "MiB", extra=("--max-memory", "1K"))
+    assert "limit of 0.0 MiB" in err
+    monkeypatch.setenv("SILCOUNT_MAX_MEMORY", "2K")
+    assert_refused(p, 4, "too large")
+    monkeypatch.setenv("SILCOUNT_MAX_MEMORY", "64M")
+    assert audit(p)[0] == 0
+
+
+def test_too_large_binary_stl_refused_from_its_header_alone(tmp_path):
+    # 10 million triangles promised in the header, and exactly that many bytes: a sparse file, never parsed
+    n = 10_000_000
+    p = tmp_path / "huge.stl"
+    with open(p, "wb") as fh:
+        fh.write(struct.pack("<80sI", b"binary", n))
+        fh.truncate(84 + 50 * n)
+    assert_refused(p, 4, "too large", f"{n} faces", extra=("--max-memory", "1G"))
+
+
+def test_too_large_ply_refused_from_its_header(tmp_path):
+    head = b"ply\nformat ascii 1.0\nelement vertex 50000000\nproperty float x\nproperty float y\nproperty float z\n" \
+           b"element face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n"
+    assert_refused(write(tmp_path, "huge.ply", head), 4, "too large", "100000000 faces", extra=("--max-memory", "4G"))
+
+
+# ---- bad arguments: exit 2 ---------------------------------------------------------------
+@pytest.mark.parametrize("value", ["1,2", "a,b,c", "1,2,3,4", "", "nan,0,0", "1;2;3"])
+def test_malformed_light(tmp_path, value):
+    p = write(tmp_path, "t.obj", tetra_bytes("obj"))
+    rc, out, err = run_cli("audit", str(p), "--light", value)
+    assert rc == 2 and out == "" and err.count("\n") == 1 and "--light" in err and "X,Y,Z" in err
+
+
+def test_zero_direction(tmp_path):
+    p = write(tmp_path, "t.obj", tetra_bytes("obj"))
+    rc, out, err = run_cli("audit", str(p), "--directional", "0,0,0")
+    assert rc == 2 and out == "" and err.count("\n") == 1 and "zero vector" in err
+
+
+def test_unknown_detector_and_bad_memory_size(tmp_path):
+    p = write(tmp_path, "t.obj", tetra_bytes("obj"))
+    assert run_cli("audit", str(p), "--detectors", "magic")[0] == 2
+    assert run_cli("audit", str(p), "--max-memory", "lots")[0] == 2
+    assert run_cli("audit", str(p), "--cycles", "no-such-profile")[0] == 2
+
+
+# ---- usable but dubious: audited, with warnings ------------------------------------------
+def _warnings(path: Path, *extra: str) -> str:
+    return "\n".join(audit_json(path, *extra)["warnings"])
+
+
+def test_degenerate_faces_are_warned(tmp_path):
+    # the tetrahedron plus a zero-area sliver on three collinear points far away
+    v = TETRA_V.tolist() + [[5, 0, 0], [6, 0, 0], [7, 0, 0]]
+    f = TETRA_F.tolist() + [[4, 5, 6]]
+    doc = audit_json(write(tmp_path, "deg.obj", obj_text(v, f)))
+    assert doc["mesh"]["degenerate_faces"] == 1
+    assert "1 degenerate (zero-area) faces" in "\n".join(doc["warnings"])
+
+
+def test_duplicate_faces_are_warned(tmp_path):
+    f = TETRA_F.tolist() + [TETRA_F[0].tolist()]
+    doc = audit_json(write(tmp_path, "dup.obj", obj_text(TETRA_V, f)))
+    assert doc["mesh"]["duplicate_faces"] == 1
+    # the duplicated face makes its three edges valence 3: non-manifold
+    assert doc["mesh"]["nonmanifold_edges"] == 3
+    assert "1 duplicate faces" in "\n".join(doc["warnings"])
+
+
+def test_nonmanifold_edges_are_warned(tmp_path):
+    # three triangles sharing the edge (0,1): a fin
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]]
+    f = [[0, 1, 2], [1, 0, 3], [0, 1, 4]]
+    doc = audit_json(write(tmp_path, "fin.obj", obj_text(v, f)))
+    assert doc["mesh"]["nonmanifold_edges"] == 1
+    assert "1 non-manifold edges" in "\n".join(doc["warnings"])
+
+
+def test_open_boundaries_are_warned(tmp_path):
+    doc = audit_json(write(tmp_path, "open.obj", obj_text(TETRA_V, TETRA_F[:3])))
+    assert doc["mesh"]["boundary_edges"] == 3   # the removed face's three edges
+    assert "open mesh: 3 boundary edges" in "\n".join(doc["warnings"])
+
+
+def test_inconsistent_winding_is_warned(tmp_path):
+    f = TETRA_F.copy()
+    f[3] = f[3][::-1]                           # one face flipped: its 3 edges are traversed twice the same way
+    doc = audit_json(write(tmp_path, "flip.obj", obj_text(TETRA_V, f)))
+    assert doc["mesh"]["inconsistent_edges"] == 3
+    assert "inconsistent winding: 3 edges" in "\n".join(doc["warnings"])
+
+
+def test_light_on_a_face_plane_is_a_warned_tie(tmp_path):
+    # quad cube: the point (2, 0, 0.5) lies on the plane z = 0.5 of the top face
+    p = write(tmp_path, "cube.obj", obj_text(QUAD_CUBE_V, QUAD_CUBE_F))
+    doc = audit_json(p, "--light", "2,0,0.5", "--random-lights", "0")
+    assert doc["lights"][0]["ties"] == 1
+    assert "light 0: on the plane of 1 faces" in "\n".join(doc["warnings"])
+
+
+def test_light_inside_the_mesh_is_warned(tmp_path):
+    p = write(tmp_path, "cube.obj", obj_text(QUAD_CUBE_V, QUAD_CUBE_F))
+    doc = audit_json(p, "--light", "0.1,0.2,0.3", "--random-lights", "0")
+    assert doc["lights"][0]["inside"] is True
+    assert doc["detectors"]["reference"]["silhouette_edges"] == 0   # every face sees its back: no silhouette
+    assert "light 0: inside the mesh" in "\n".join(doc["warnings"])
+
+
+# ---- no half-written output ----------------------------------------------------------------
+def test_failed_audit_leaves_no_output_file(tmp_path):
+    out = tmp_path / "report.json"
+    rc, _, _ = run_cli("audit", str(write(tmp_path, "c.obj", "v 1 2 x\n")), "--out", str(out), "--quiet")
+    assert rc == 3 and not out.exists() and list(tmp_path.iterdir()) == [tmp_path / "c.obj"]
+
+
+def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path):
+    target = tmp_path / "a.txt"
+    target.write_text("old")
+
+    with pytest.raises(TypeError):
+        write_atomic(target, 12345)  # type: ignore[arg-type]  # fails inside the write
+    assert target.read_text() == "old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
+
+
+def test_real_process_prints_one_line_and_no_traceback(tmp_path):
+    p = write(tmp_path, "c.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nend_header\n")
+    proc = subprocess.run([sys.executable, "-m", "silcount.cli", "audit", str(p)], capture_output=True, text=True)
+    assert proc.returncode == 3
+    assert proc.stdout == "" and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert str(p) in proc.stderr
