@@ -90,9 +90,29 @@ def _clip(tri, poly, tmp, guard):
     return n
 
 
+@njit(cache=True, inline="always")
+def _span(ax, ay, bx, by, bias, py, lo, hi):
+    """Narrow the column range [lo, hi] of row centre ``py`` to where ``E_ab + bias > 0`` (exact integers)."""
+    # E(c) = (bx - ax)(py - ay) - (by - ay)(c S + S/2 - ax) = base + step c
+    base = (bx - ax) * (py - ay) - (by - ay) * (SUBPIXEL // 2 - ax)
+    step = -(by - ay) * SUBPIXEL
+    k = -(base + bias)                    # need step * c > k
+    if step > 0:
+        lo = max(lo, k // step + 1)
+    elif step < 0:
+        hi = min(hi, -(k // -step) - 1)
+    elif k >= 0:
+        hi = lo - 1
+    return lo, hi
+
+
 @njit(cache=True)
 def _fill(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil, tri_id):
-    """Fill one snapped triangle with positive area ``E01(v2) > 0`` (interior where all E > 0)."""
+    """Fill one snapped triangle with positive area ``E01(v2) > 0`` (interior where all E > 0).
+
+    Each row's span is solved from the three edge functions, so only covered
+    pixels are visited (long thin shadow-volume sides have huge bounding boxes).
+    """
     H, W = depth.shape
     area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
     half = SUBPIXEL // 2
@@ -107,17 +127,14 @@ def _fill(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil
     inv = 1.0 / area
     for r in range(r0, r1 + 1):
         py = r * SUBPIXEL + half
-        for c in range(c0, c1 + 1):
+        lo, hi = _span(x0, y0, x1, y1, b01, py, c0, c1)
+        lo, hi = _span(x1, y1, x2, y2, b12, py, lo, hi)
+        lo, hi = _span(x2, y2, x0, y0, b20, py, lo, hi)
+        for c in range(lo, hi + 1):
             px = c * SUBPIXEL + half
             e01 = (x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)
-            if e01 + b01 <= 0:
-                continue
             e12 = (x2 - x1) * (py - y1) - (y2 - y1) * (px - x1)
-            if e12 + b12 <= 0:
-                continue
             e20 = (x0 - x2) * (py - y2) - (y0 - y2) * (px - x2)
-            if e20 + b20 <= 0:
-                continue
             z = (e12 * z0 + e20 * z1 + e01 * z2) * inv
             passed = z < depth[r, c]
             if mode == DEPTH:
