@@ -1,0 +1,150 @@
+"""EESD: hand-counted tallies, naive == fast, intended vs reference (convex: equal; tori: subset)."""
+import numpy as np
+from hypothesis import given, settings, strategies as st
+
+import silcount
+from strategies import closed_meshes, convex_hulls, lights_for, perturbed_tori
+
+# ``true`` costs counted by reading eesd.py's counted routines (point light):
+# extend: M = (v1+v2)*0.5 (3A 3M), e = v2-v1 (3A), d = M-L (3A), w = d x e (6M 3A), c-M (3A),
+#   side = (c-M).w (3M 2A), side > 0 (1C), e.e (3M 2A), w.w (3M 2A), ee/ww (1 div), sqrt (1),
+#   EPS * root * sgn (2M), P = M + w*scale (3M 3A): 24A 23M 1C 1div 1sqrt.
+EXTEND = {"add": 24, "mul": 23, "cmp": 1, "div": 1, "sqrt": 1}
+RAY = {"add": 3}                                # D = P - L
+# Moller-Trumbore: e1, e2 (6A), p = D x e2 (6M 3A), det (3M 2A), 1/det (1 div), s = O-a (3A),
+# u (3M 2A + 1M), q = s x e1 (6M 3A), v (3M 2A + 1M), t (3M 2A + 1M), u+v (1A), and the six
+# compares det != 0, u >= 0, v >= 0, u+v <= 1, t > t_min, t < t_max: 24A 27M 1div 6C.
+TRIANGLE = {"add": 24, "mul": 27, "div": 1, "cmp": 6}
+EDGE_READS = 2 + 1 + 9 + 3        # the edge's two vertex indices, f1's far corner, 9 coordinates, the light
+FACE_READS = 10                   # face_start[f], [f+1]; p0 and p1 (index + 3 coordinates each)
+TRIANGLE_READS = 4                # the next fan corner (index + 3 coordinates)
+# literal plane of a face: face_start, 3 corner indices, 9 coordinates (13R); e1, e2 (6A);
+# n = e1 x e2 (6M 3A); d = 0 - n.p0 (3M 2A + 1A); 4 writes of the plane table.
+PLANE = {"read": 13, "add": 12, "mul": 9, "write": 4}
+PAIR_LITERAL = {"read": 4, "mul": 3, "add": 3, "cmp": 1}     # a, b, c, d; aPx+bPy+cPz+d == 0
+
+
+def tally(*parts):
+    out = {"add": 0, "mul": 0, "cmp": 0, "read": 0, "write": 0}
+    for times, cost in parts:
+        for k, v in cost.items():
+            out[k] = out.get(k, 0) + times * v
+    return out
+
+
+def both_engines(mesh, light, variant):
+    a = silcount.detect(mesh, light, "eesd", variant, "fast")
+    b = silcount.detect(mesh, light, "eesd", variant, "naive")
+    assert np.array_equal(a.edges, b.edges) and np.array_equal(a.oriented, b.oriented)
+    assert a.steps == b.steps and a.tally == b.tally
+    for key in ("on_plane_pairs", "duplicates_in_S", "missed_edges", "extra_edges"):
+        assert a.notes.get(key) == b.notes.get(key)
+    return a
+
+
+def test_tetrahedron_intended_by_hand():
+    # Light at (5,5,5): a convex solid, so the rays beside the base's three edges escape and the
+    # others meet their second face: the reference silhouette, ids 0, 1, 3.
+    m = silcount.builtin_mesh("tetrahedron")
+    res = both_engines(m, silcount.PointLight((5.0, 5.0, 5.0)), "intended")
+    assert res.edge_ids.tolist() == [0, 1, 3] and res.notes["missed_edges"] == 0
+    # E = 6, F = T = 4: 24 edge-face pairs, 24 triangle tests
+    assert res.steps == {"extend": 6, "ray": 6, "intersection": 24, "triangle_test": 24, "check_hits": 6, "add": 3}
+    expected = tally((6, EXTEND), (6, RAY), (6, {"read": EDGE_READS}), (24, {"read": FACE_READS}),
+                     (24, TRIANGLE), (24, {"read": TRIANGLE_READS, "add": 1}), (6, {"cmp": 1}), (3, {"write": 1}))
+    assert res.tally["true"] == expected
+    assert expected == {"add": 762, "mul": 786, "cmp": 156, "read": 426, "write": 3, "div": 30, "sqrt": 6}
+    # paper: extend 6(3A+1R+1W) + ray 6(3A+3M+1R+1W) + intersection 24(3M+3A+1C) + add 3(1A)
+    assert res.tally["paper"] == {"add": 111, "mul": 90, "cmp": 24, "read": 12, "write": 12}
+
+
+def test_quad_cube_intended_by_hand():
+    # Light above the top face: its four edges; every quad is two fan triangles (T = 12).
+    m = silcount.builtin_mesh("quad_cube")
+    res = both_engines(m, silcount.PointLight((0.0, 0.0, 10.0)), "intended")
+    assert {tuple(e) for e in res.edges.tolist()} == {(1, 3), (1, 5), (3, 7), (5, 7)}
+    assert res.steps == {"extend": 12, "ray": 12, "intersection": 72, "triangle_test": 144, "check_hits": 12,
+                         "add": 4}
+    expected = tally((12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, {"read": FACE_READS}),
+                     (144, TRIANGLE), (144, {"read": TRIANGLE_READS, "add": 1}), (12, {"cmp": 1}), (4, {"write": 1}))
+    assert res.tally["true"] == expected
+    assert expected == {"add": 3924, "mul": 4164, "cmp": 888, "read": 1476, "write": 4, "div": 156, "sqrt": 12}
+    assert res.tally["paper"] == {"add": 36 + 36 + 216 + 4, "mul": 36 + 216, "cmp": 72, "read": 24, "write": 24}
+
+
+def test_quad_cube_literal_by_hand():
+    # Light (0,0,10): every P has its edge-axis coordinate 0 and the other two moved off +-0.5, so it
+    # lies on none of the six planes x, y, z = +-0.5: all 72 pairs "miss", S gets every edge 6 times.
+    m = silcount.builtin_mesh("quad_cube")
+    res = both_engines(m, silcount.PointLight((0.0, 0.0, 10.0)), "literal")
+    assert res.n_edges == 12 and res.notes["S_length"] == 72 and res.notes["duplicates_in_S"] == 60
+    assert res.notes["on_plane_pairs"] == 0 and res.notes["extra_edges"] == 8
+    assert res.steps == {"plane": 6, "extend": 12, "ray": 12, "intersection": 72, "add": 72}
+    expected = tally((6, PLANE), (12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, PAIR_LITERAL),
+                     (72, {"write": 1}))
+    assert res.tally["true"] == expected
+    assert res.tally["paper"] == {"add": 36 + 36 + 216 + 72, "mul": 36 + 216, "cmp": 72, "read": 24, "write": 24}
+    # Directional light straight down: w = d x e has no z component, so each of the 8 horizontal
+    # edges' P lies exactly in its own top or bottom plane (value 0*Px + 0*Py + 1*(+-0.5) -+ 0.5 = 0);
+    # the 4 vertical edges are seen end-on (w = 0, P = NaN, never 0).  72 - 8 = 64 adds.
+    res = both_engines(m, silcount.DirectionalLight((0.0, 0.0, 1.0)), "literal")
+    assert res.notes["on_plane_pairs"] == 8 and res.steps["add"] == 64 and res.n_edges == 12
+
+
+small_meshes = closed_meshes().filter(lambda m: m.n_faces <= 80)
+
+
+@settings(max_examples=20, deadline=None)
+@given(data=st.data(), variant=st.sampled_from(["intended", "literal"]))
+def test_naive_equals_fast(data, variant):
+    mesh = data.draw(small_meshes)
+    both_engines(mesh, data.draw(lights_for(mesh)), variant)
+
+
+@settings(max_examples=30, deadline=None)
+@given(data=st.data())
+def test_intended_equals_reference_on_convex_hulls(data):
+    mesh = data.draw(convex_hulls(max_points=60))
+    light = data.draw(lights_for(mesh))
+    ref = silcount.detect(mesh, light, "reference")
+    res = silcount.detect(mesh, light, "eesd", "intended")
+    assert np.array_equal(res.edges, ref.edges) and np.array_equal(res.oriented, ref.oriented)
+    # literal adds every edge of a closed mesh (a point off all face planes at once): extra edges
+    lit = silcount.detect(mesh, light, "eesd", "literal")
+    assert lit.n_edges == mesh.n_edges and lit.notes["extra_edges"] == mesh.n_edges - ref.n_edges > 0
+
+
+@settings(max_examples=30, deadline=None)
+@given(data=st.data())
+def test_intended_is_a_subset_of_reference_on_tori(data):
+    mesh = data.draw(perturbed_tori())
+    light = data.draw(lights_for(mesh))
+    ref = silcount.detect(mesh, light, "reference")
+    res = silcount.detect(mesh, light, "eesd", "intended")
+    ref_set = {tuple(e) for e in ref.edges.tolist()}
+    got = {tuple(e) for e in res.edges.tolist()}
+    assert got <= ref_set
+    assert res.notes["extra_edges"] == 0 and res.notes["missed_edges"] == len(ref_set - got)
+
+
+def test_torus_self_occlusion_is_reported():
+    # The built-in torus lit from a low directional light: parts of the inner rim hide silhouette
+    # edges behind the near side of the ring, so EESD misses some and says how many.
+    m = silcount.builtin_mesh("torus")
+    light = silcount.DirectionalLight((0.1, 0.3, 1.0))
+    ref = silcount.detect(m, light, "reference")
+    res = silcount.detect(m, light, "eesd")
+    assert set(map(tuple, res.edges.tolist())) < set(map(tuple, ref.edges.tolist()))
+    assert res.notes["missed_edges"] == ref.n_edges - res.n_edges > 0
+
+
+def test_shared_meshes_subset(shared_mesh):
+    for name in ("cow.obj", "fandisk.obj", "bunny.ply"):
+        mesh = shared_mesh(name)
+        light = silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * np.array([0.3, 0.8, 0.5]))
+        ref = silcount.detect(mesh, light, "reference")
+        res = silcount.detect(mesh, light, "eesd")
+        missed = np.setdiff1d(ref.edge_ids, res.edge_ids)
+        assert res.notes["missed_edges"] == missed.size
+        if mesh.is_watertight:
+            assert np.setdiff1d(res.edge_ids, ref.edge_ids).size == 0
