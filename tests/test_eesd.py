@@ -89,6 +89,9 @@ def test_quad_cube_literal_by_hand():
     # the 4 vertical edges are seen end-on (w = 0, P = NaN, never 0).  72 - 8 = 64 adds.
     res = both_engines(m, silcount.DirectionalLight((0.0, 0.0, 1.0)), "literal")
     assert res.notes["on_plane_pairs"] == 8 and res.steps["add"] == 64 and res.n_edges == 12
+    # directional: extend skips d = M - L (21 A), the ray is the line through P (no operation)
+    assert res.tally["true"] == tally((6, PLANE), (12, {**EXTEND, "add": 21}), (12, {"read": EDGE_READS}),
+                                      (72, PAIR_LITERAL), (64, {"write": 1}))
 
 
 small_meshes = closed_meshes().filter(lambda m: m.n_faces <= 80)
@@ -148,3 +151,11 @@ def test_shared_meshes_subset(shared_mesh):
         assert res.notes["missed_edges"] == missed.size
         if mesh.is_watertight:
             assert np.setdiff1d(res.edge_ids, ref.edge_ids).size == 0
+
+
+def test_open_triangle_soup_naive_equals_fast(shared_mesh):
+    # 100 unconnected triangles: every edge is a boundary edge with one face
+    soup = shared_mesh("soup.stl")
+    light = silcount.PointLight(soup.centre + 3 * soup.bounding_radius * np.array([0.3, 0.8, 0.5]))
+    for variant in ("intended", "literal"):
+        both_engines(soup, light, variant)

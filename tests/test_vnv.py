@@ -106,3 +106,12 @@ def test_intended_equals_reference_and_literal_disagrees(data):
     assert lit.edge_ids.tolist() == ([0] if n_facing == 1 else [])
     # the reference has at least 3 edges on a closed mesh lit from outside: literal must disagree
     assert ref.n_edges >= 3 and lit.notes["disagreement_with_reference"] >= ref.n_edges - 1
+
+
+def test_open_triangle_soup(shared_mesh):
+    # every edge of a soup is a boundary edge: intended reports those of light-facing triangles
+    soup = shared_mesh("soup.stl")
+    light = silcount.DirectionalLight((0.2, -0.5, 1.0))
+    res = both_engines(soup, light, "intended")
+    assert np.array_equal(res.edges, silcount.detect(soup, light, "reference").edges)
+    both_engines(soup, light, "literal")
