@@ -20,8 +20,9 @@
    which were measured on a GPU pipeline at an unstated resolution: compare
    the ranking, not the numbers.
 
-Timings are medians of ``--repeat`` runs after one warm-up (numba
-compilation), wall clock, on a shared machine: expect noise.
+Timings are the best of ``--repeat`` runs after one warm-up (numba
+compilation), wall clock, column by column (as ``timeit`` advises: on a
+shared machine the minimum is the least disturbed estimate); expect noise.
 
     .venv/bin/python scripts/bench_render.py [--repeat 5] [--quick]
 """
@@ -30,7 +31,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import sys
 import tempfile
 import time
@@ -54,7 +54,7 @@ PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EES
 }
 
 
-def median_frame(scene, method: str, detector: str, repeat: int) -> dict[str, float]:
+def best_frame(scene, method: str, detector: str, repeat: int) -> dict[str, float]:
     render_stencil(scene, method, detector)           # warm-up: numba compilation, cached meshes
     runs = []
     for _ in range(repeat):
@@ -62,7 +62,7 @@ def median_frame(scene, method: str, detector: str, repeat: int) -> dict[str, fl
         r = render_stencil(scene, method, detector)
         total = time.perf_counter() - t0
         runs.append(dict(r.timings, total=total))
-    return {k: 1000 * statistics.median(run[k] for run in runs) for k in runs[0]}
+    return {k: 1000 * min(run[k] for run in runs) for k in runs[0]}
 
 
 def scene_file(tmp: Path, name: str, objects: list[dict], eye, target, light) -> Path:
@@ -116,24 +116,24 @@ def main() -> int:
             print("(bunny_on_floor skipped: SILCOUNT_MESH_DIR unset)")
         else:
             scenes.append(("bunny_on_floor", bunny))
-        print(f"# Stencil frames (reference detector), median of {repeat} runs, ms")
+        print(f"# Stencil frames (reference detector), best of {repeat} runs, ms")
         print(f"{'scene':<16} {'size':>9} {'method':<6} {'silhouette':>10} {'volume':>7} {'raster':>7} {'total':>7}  vs llvmpipe 10 ms")
         for name, path in scenes:
             base = load_scene(path)
             for size in sizes:
                 sc = base.with_resolution(size, size)
                 for method in ("zpass", "zfail"):
-                    t = median_frame(sc, method, "reference", repeat)
+                    t = best_frame(sc, method, "reference", repeat)
                     ratio = f"{t['total'] / LLVMPIPE_MS:5.1f}x" if name == "cow_and_cubes" and size == 512 else ""
                     print(f"{name:<16} {size:>4}x{size:<4} {method:<6} {t['silhouette']:10.2f} {t['volume']:7.2f} "
                           f"{t['raster']:7.2f} {t['total']:7.2f}  {ratio}")
         torus = load_scene(torus_scene(tmp))
         caster = torus.casters[0].mesh
         print(f"\n# The papers' FPS analogue: torus of {caster.n_edges} edges on a floor, 512x512, z-fail, "
-              f"median of {repeat} runs")
+              f"best of {repeat} runs")
         print(f"{'detector':<12} {'detect ms':>9} {'rest ms':>8} {'frame ms':>9} {'FPS':>7}   paper FPS")
         for det in installed_detectors():
-            t = median_frame(torus, "zfail", det, repeat)
+            t = best_frame(torus, "zfail", det, repeat)
             rest = t["total"] - t["silhouette"]
             src, fps = PAPER_FPS.get(det, ("", None))
             paper = f"{fps:.2f} ({src})" if fps else "-"
