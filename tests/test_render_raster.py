@@ -146,3 +146,15 @@ def test_near_plane_clipping_keeps_only_the_part_in_front():
     assert np.array_equal(np.unique(stencil_count(clip, W, H)), [0, 1])
     covered = stencil_count(clip, W, H) == 1
     assert not covered[: H // 2].any() and covered[-1].all()
+
+
+def test_pixel_rays_project_to_the_contract_pixel_centres():
+    # The ray through pixel (row, col) must land at NDC x = 2 (col + .5) / W - 1, y = 1 - 2 (row + .5) / H
+    # under the projection matrix (two independent formulas: ray construction vs. gluPerspective/gluLookAt).
+    cam = Camera(np.array([6.0, 5, 8]), np.array([0, 0.5, 0]), np.array([0, 1.0, 0]), 45.0, 0.1, 40, 30)
+    rays = cam.pixel_rays()
+    for row, col in [(0, 0), (29, 39), (12, 7), (15, 20)]:
+        p = np.append(cam.eye + 3.0 * rays[row, col], 1.0)
+        c = cam.view_projection @ p
+        assert np.allclose([c[0] / c[3], c[1] / c[3]], [2 * (col + 0.5) / 40 - 1, 1 - 2 * (row + 0.5) / 30])
+        assert np.isclose(c[3], 3.0)          # t is eye depth: w_clip = -z_eye

@@ -59,10 +59,6 @@ class Camera:
     def view_projection(self) -> np.ndarray:
         return self.projection @ self.view
 
-    def clip(self, points_h: np.ndarray) -> np.ndarray:
-        """(..., 4) homogeneous world points -> (..., 4) clip coordinates."""
-        return points_h @ self.view_projection.T
-
     def pixel_rays(self) -> np.ndarray:
         """(H, W, 3) world directions through the pixel centres, scaled so that ``t`` is eye depth ``-z_eye``.
 
