@@ -79,6 +79,7 @@ MERGE_STEP_COST: dict[str, dict[str, int]] = {
     "label": {"write": 1},
 }
 
+_CHUNK = 1 << 18
 _ERRBOUND_A = (7.0 + 56.0 * 2.0 ** -53) * 2.0 ** -53
 
 
@@ -135,6 +136,14 @@ def _exact_ints(x: np.ndarray, shift: int) -> np.ndarray:
     return np.left_shift(m.astype(object), s.astype(object))
 
 
+def _mask_ids(n: int, *ids: np.ndarray) -> np.ndarray:
+    """The distinct values of ``ids`` (all in ``0..n-1``), ascending."""
+    seen = np.zeros(n, dtype=bool)
+    for x in ids:
+        seen[x.ravel()] = True
+    return np.flatnonzero(seen)
+
+
 def _common_shift(x: np.ndarray) -> int:
     nz = x[x != 0.0]
     if nz.size == 0:
@@ -177,10 +186,14 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     steps = {"candidate_edge": int(mesh.n_edges)}
     first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]          # (F, 3)
     sizes = mesh.face_sizes
-    # every corner of the other face against this face's plane, both ways round
-    plane = np.concatenate([f, g])
-    other = np.concatenate([g, f])
-    pair = np.concatenate([np.arange(e.size), np.arange(e.size)])
+    # every corner of the other face against this face's plane, both ways round; when one face is a
+    # triangle T, the other face's corners against T's plane suffice (with n_T . n_P > 0 they put
+    # P's plane on T's, so T's corners lie on P's plane too)
+    tri_f, tri_g = sizes[f] == 3, sizes[g] == 3
+    one, two = np.flatnonzero(tri_f | ~tri_g), np.flatnonzero(~tri_f)
+    plane = np.concatenate([f[one], g[two]])
+    other = np.concatenate([g[one], f[two]])
+    pair = np.concatenate([one, two])
     k = sizes[other]
     t_pair = np.repeat(pair, k)
     t_plane = np.repeat(plane, k)
@@ -196,26 +209,31 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     steps["orient3d_exact"] = int(unsure.size)
     shift = _common_shift(V)
     if unsure.size:
-        used = np.unique(np.concatenate([first3[t_plane[unsure]].ravel(), t_point[unsure]]))
+        used = _mask_ids(V.shape[0], first3[t_plane[unsure]], t_point[unsure])
         exact = np.empty((V.shape[0], 3), dtype=object)
         exact[used] = _exact_ints(V[used], shift)
-        zero = _orient3d_exact_zero(*(exact[first3[t_plane[unsure], i]] for i in range(3)), exact[t_point[unsure]])
-        off_plane[unsure[~zero]] = True
+        for lo in range(0, unsure.size, _CHUNK):                 # bounded memory for the object arrays
+            part = unsure[lo:lo + _CHUNK]
+            zero = _orient3d_exact_zero(*(exact[first3[t_plane[part], i]] for i in range(3)), exact[t_point[part]])
+            off_plane[part[~zero]] = True
     coplanar = np.ones(e.size, dtype=bool)
     coplanar[t_pair[off_plane]] = False
     cand = np.flatnonzero(coplanar)
     steps["normal_check"] = int(cand.size)
     if cand.size:
-        used = np.unique(np.concatenate([first3[f[cand]].ravel(), first3[g[cand]].ravel()]))
+        faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
+        used = _mask_ids(V.shape[0], first3[faces])
         exact = np.empty((V.shape[0], 3), dtype=object)
         exact[used] = _exact_ints(V[used], shift)
-
-        def normal(faces):
-            p0, p1, p2 = (exact[first3[faces, i]] for i in range(3))
-            return _cross(p1 - p0, p2 - p0)
-
-        dot = (normal(f[cand]) * normal(g[cand])).sum(axis=1)
-        same = np.asarray(dot > 0, dtype=bool)
+        normals = np.empty((mesh.n_faces, 3), dtype=object)
+        for lo in range(0, faces.size, _CHUNK):
+            part = faces[lo:lo + _CHUNK]
+            p0, p1, p2 = (exact[first3[part, i]] for i in range(3))
+            normals[part] = _cross(p1 - p0, p2 - p0)
+        same = np.zeros(cand.size, dtype=bool)
+        for lo in range(0, cand.size, _CHUNK):
+            part = cand[lo:lo + _CHUNK]
+            same[lo:lo + _CHUNK] = np.asarray((normals[f[part]] * normals[g[part]]).sum(axis=1) > 0, dtype=bool)
         cand = cand[same]
     return f[cand], g[cand], steps
 
