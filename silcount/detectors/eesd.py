@@ -404,7 +404,7 @@ def _fast_literal(mesh: Mesh, light: Light):
     p = np.ascontiguousarray(outward_points_and_rays(mesh, light)[0])
     zeros = _on_plane_counts(p, face_planes(mesh))
     adds_per_edge = F - zeros
-    ids = np.repeat(np.arange(E, dtype=np.int64), adds_per_edge)
+    ids = np.flatnonzero(adds_per_edge)        # S holds edge e adds_per_edge[e] times
     adds = int(adds_per_edge.sum())
     steps = {"extend": E, "ray": E, "intersection": E * F, "add": adds, "plane": F}
     true: dict[str, int] = {}
@@ -429,8 +429,8 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     flags, ties = facing_flags(mesh, light)
     unique = np.unique(ids)
     if variant == "literal":
-        notes["S_length"] = int(ids.size)
-        notes["duplicates_in_S"] = int(ids.size - unique.size)
+        notes["S_length"] = steps["add"]
+        notes["duplicates_in_S"] = steps["add"] - int(unique.size)
     return make_silhouette(mesh, light, NAME, variant, engine, unique, steps, true, ties, flags, notes=notes)
 
 
