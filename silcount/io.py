@@ -357,7 +357,7 @@ def _size_estimate(path: Path, ext: str, size: int) -> tuple[int, int]:
     return size // 12, size // 12  # glb/gltf: at least 12 bytes per indexed triangle
 
 
-def load_mesh(path: str | os.PathLike, max_memory: int | None = None) -> Mesh:
+def load_mesh(path: str | os.PathLike, max_memory: int | None = None, weld_tolerance: float = 0.0) -> Mesh:
     """Load, weld and validate a mesh file; see :mod:`silcount.mesh` and this module's docstring."""
     p = Path(path)
     try:
@@ -395,6 +395,6 @@ def load_mesh(path: str | os.PathLike, max_memory: int | None = None) -> Mesh:
     if len(faces) == 0:
         raise InvalidMesh(f"{p}: the mesh has no faces")
     try:
-        return from_polygons(verts, faces, name=p.stem)
+        return from_polygons(verts, faces, name=p.stem, weld_tolerance=weld_tolerance)
     except InvalidMesh as exc:
         raise InvalidMesh(f"{p}: {exc}") from None

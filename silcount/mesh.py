@@ -192,18 +192,33 @@ class Mesh:
         return self.is_closed and self.is_consistently_wound
 
 
-def weld(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Merge vertices with exactly equal coordinates; returns (welded, map from input index)."""
+def weld(vertices: np.ndarray, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Merge vertices; returns (welded, map from input index).
+
+    ``tolerance == 0`` (the default) merges exactly equal coordinates only.
+    ``tolerance > 0`` merges vertices that round to the same point of a grid
+    of that spacing (as trimesh's ``merge_vertices`` does with digits); each
+    merged vertex keeps the coordinates of its lowest-indexed input vertex.
+    """
     v = np.asarray(vertices, dtype=np.float64) + 0.0  # -0.0 -> 0.0
+    if tolerance > 0:
+        key = np.round(v / tolerance) + 0.0
+        _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        reps = v[first]
+        order = np.lexsort(reps.T[::-1])  # renumber welded vertices in coordinate order, as the exact path
+        rank = np.empty_like(order)
+        rank[order] = np.arange(order.size)
+        return reps[order], rank[inverse].astype(np.int64)
     welded, inverse = np.unique(v, axis=0, return_inverse=True)
     return welded, inverse.reshape(-1).astype(np.int64)
 
 
-def from_polygons(vertices, faces, name: str = "mesh") -> Mesh:
+def from_polygons(vertices, faces, name: str = "mesh", weld_tolerance: float = 0.0) -> Mesh:
     """Build a welded :class:`Mesh` from vertices and faces.
 
     ``faces`` is an (F, k) integer array or a sequence of index sequences
-    (polygons of any size >= 3).  Raises :class:`InvalidMesh` on non-finite
+    (polygons of any size >= 3).  ``weld_tolerance``: see :func:`weld`.  Raises :class:`InvalidMesh` on non-finite
     coordinates, out-of-range indices, faces with fewer than 3 corners, and
     on a mesh with no usable face.
     """
@@ -227,7 +242,7 @@ def from_polygons(vertices, faces, name: str = "mesh") -> Mesh:
     if flat.size and (flat.min() < 0 or flat.max() >= len(verts)):
         worst = int(flat.max()) if flat.max() >= len(verts) else int(flat.min())
         raise InvalidMesh(f"a face indexes vertex {worst}, but there are only {len(verts)} vertices")
-    welded, vmap = weld(verts)
+    welded, vmap = weld(verts, weld_tolerance)
     flat = vmap[flat]
     start = np.zeros(sizes.size + 1, dtype=np.int64)
     np.cumsum(sizes, out=start[1:])

@@ -50,3 +50,12 @@ def test_nonfinite_rejected(bad):
 def test_out_of_range_index_rejected():
     with pytest.raises(silcount.InvalidMesh, match="only 3 vertices"):
         from_polygons([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 5]])
+
+
+def test_weld_tolerance_merges_near_duplicates_only_when_asked():
+    # the featuretype.stl situation: the same corner stored as z = 0.0 and z = -2.7e-16
+    v = [[0, 0, 0.0], [1, 0, 0], [0, 1, 0], [0, 0, -2.7e-16], [0, -1, 0]]
+    faces = [[0, 1, 2], [3, 4, 1]]
+    assert from_polygons(v, faces).n_vertices == 5
+    merged = from_polygons(v, faces, weld_tolerance=1e-9)
+    assert merged.n_vertices == 4 and merged.n_edges == 5
