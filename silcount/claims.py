@@ -15,9 +15,11 @@ whether the ordering survives it.
 """
 from __future__ import annotations
 
-import itertools
+import json
+import os
 from dataclasses import asdict, dataclass
 from functools import lru_cache
+from pathlib import Path
 
 import sympy as sp
 
@@ -82,6 +84,8 @@ def digit_slip(printed: int, value: int) -> str:
 
 
 def table_cell_claims() -> list[dict]:
+    from .tables import _measured
+
     out = []
     for paper_file in PAPER_FILES:
         data = models.load(paper_file)
@@ -93,6 +97,8 @@ def table_cell_claims() -> list[dict]:
                 forms = F.forms(row["model"])
                 printed_form = F.evaluate(forms["printed"], **point)
                 rederived = F.evaluate(forms["rederived"], **point)
+                run = _measured(row["algorithm"], point["n"], point["m"])
+                ok = run is not None and not run.error
                 for kind in ("mul", "add", "cmp", "read", "write"):
                     cell = row["cells"][kind]
                     pf, rd = int(printed_form[kind]), rederived[kind]
@@ -107,7 +113,9 @@ def table_cell_claims() -> list[dict]:
                     out.append(dict(
                         key=f"{table['id']} {row['algorithm']} {kind}", paper=data["paper"], section=table["section"],
                         statement=f"{table['id']} ({table['caption']}): {row['label']}, {kind}",
-                        printed=str(cell), rederived=_num(rd), measured="",
+                        printed=str(cell), rederived=_num(rd),
+                        measured=(f"{run.tally['paper'][kind]} (paper model), {run.tally['true'][kind]} (true) on {run.mesh}"
+                                  if ok else ""),
                         verdict=HOLDS if rd == cell else FAILS, reason="; ".join(notes) + "."))
     return out
 
@@ -155,16 +163,16 @@ def _check_kernel_cost(c: dict) -> tuple[str, str, str, str]:
         f"{F.KERNELS[c['kernel']][1]}, executed on counting arithmetic, costs {shown}")
 
 
-def _euler_rows() -> list[tuple[str, int, int, int]]:
+def _euler_rows(real: bool) -> list[tuple[str, int, int, int]]:
     rows = [(name, m.n_vertices, m.n_faces, m.n_edges) for name, m in
             ((n, sweep.builtin_mesh(n)) for n in ("icosahedron", "icosphere4", "torus"))]
-    rows += [(m.name, m.n_vertices, m.n_faces, m.n_edges) for m in sweep.real_meshes()]
+    rows += [(m.name, m.n_vertices, m.n_faces, m.n_edges) for m in (sweep.real_meshes() if real else [])]
     return rows
 
 
-def _check_mesh_size(c: dict) -> tuple[str, str, str, str]:
+def _check_mesh_size(c: dict, real: bool) -> tuple[str, str, str, str]:
     vpf, epf = c["vertices_per_face"], c["edges_per_face"]
-    rows = _euler_rows()
+    rows = _euler_rows(real)
     measured = "; ".join(f"{name}: V/F={V / Fc:.3f}, E/F={E / Fc:.3f}" for name, V, Fc, E in rows)
     rederived = "closed triangle mesh of genus g: E/F = 3/2, V/F = 1/2 + (2 - 2g)/F -> 1/2, E/V -> 3"
     ok = all(abs(V / Fc - vpf) < 0.1 * vpf and abs(E / Fc - epf) < 0.1 * epf for _, V, Fc, E in rows)
@@ -248,8 +256,7 @@ def _check_fewest_at_points(c: dict, profiles: dict[str, Profile]) -> tuple[str,
 def _check_complexity(c: dict) -> tuple[str, str, str, str]:
     unit = {k: 1 for k in KINDS}
     degs = {mdl: F.degree(F.weighted(F.forms(mdl)["rederived"], unit)) for mdl in c["models"]}
-    runs = sweep.sweep()
-    exps = sweep.exponents(runs)
+    runs = sweep.sweep(with_real=False)
     measured = []
     for mdl in c["models"]:
         det = models.load(mdl)["algorithm"]
@@ -347,15 +354,16 @@ def _check_projection(c: dict) -> tuple[str, str, str, str]:
         + "; wrong under " + ", ".join(wrong))
 
 
-def _edge_count_claims() -> list[dict]:
+def _edge_count_claims(real: bool) -> list[dict]:
     out = []
     data = models.load("hsd2011-paper")
     for block in data.get("edge_counts", []):
         for row in block["rows"]:
             kind, name = row["mesh"].split(":", 1)
             meshes = [sweep.builtin_mesh(name)] if kind == "builtin" else [
-                m for m in sweep.real_meshes() if m.name.startswith(name.split(".")[0])]
-            measured = f"{meshes[0].name}: E = {meshes[0].n_edges}" if meshes else f"{name}: not available (SILCOUNT_MESH_DIR unset)"
+                m for m in (sweep.real_meshes() if real else []) if m.name.startswith(name.split(".")[0])]
+            measured = (f"{meshes[0].name}: E = {meshes[0].n_edges}, F = {meshes[0].n_faces}, closed: {meshes[0].is_closed}"
+                        if meshes else f"{name}: not measured (built-in data only; set SILCOUNT_MESH_DIR)")
             ok = bool(meshes) and meshes[0].n_edges == row["printed"]
             closed_tri = "possible" if row["printed"] % 3 == 0 else "impossible (3F = 2E needs E divisible by 3)"
             out.append(dict(
@@ -368,14 +376,18 @@ def _edge_count_claims() -> list[dict]:
     return out
 
 
-def all_claims(extra_profile: Profile | None = None) -> list[Claim]:
-    """Every claim, numbered, in a fixed order: tables, closed forms, prose claims, edge counts."""
+def all_claims(extra_profile: Profile | None = None, real: bool | None = None) -> list[Claim]:
+    """Every claim, numbered, in a fixed order: tables, closed forms, prose claims, edge counts.
+
+    ``real``: also measure the shared real meshes (default: when ``$SILCOUNT_MESH_DIR`` is set).
+    """
+    real = bool(os.environ.get("SILCOUNT_MESH_DIR")) if real is None else real
     profiles = builtin_profiles()
     if extra_profile is not None:
         profiles[extra_profile.name] = extra_profile
     rows = table_cell_claims() + closed_form_claims()
     checks = {
-        "kernel_cost": _check_kernel_cost, "mesh_size": _check_mesh_size, "table_point": _check_table_point,
+        "kernel_cost": _check_kernel_cost, "mesh_size": lambda c: _check_mesh_size(c, real), "table_point": _check_table_point,
         "complexity": _check_complexity, "cycle_ratio": _check_cycle_ratio, "equal_kinds": _check_equal_kinds,
         "loop_bound": _check_loop_bound, "fps_consistency": _check_fps_consistency, "projection": _check_projection,
     }
@@ -390,10 +402,60 @@ def all_claims(extra_profile: Profile | None = None) -> list[Claim]:
                 rederived, measured, verdict, reason = checks[c["check"]](c)
             rows.append(dict(key=c["id"], paper=data["paper"], section=c["section"], statement=c["statement"],
                              printed=c["printed"], rederived=rederived, measured=measured, verdict=verdict, reason=reason))
-    rows += _edge_count_claims()
+    rows += _edge_count_claims(real)
     return [Claim(id=i, **row) for i, row in enumerate(rows, start=1)]
 
 
-@lru_cache(maxsize=None)
-def default_claims() -> tuple[Claim, ...]:
-    return tuple(all_claims())
+# --- rendering ---------------------------------------------------------------
+
+def render_text(claims: list[Claim]) -> str:
+    out = []
+    for c in claims:
+        out += [f"[{c.id}] {c.verdict}: {PAPER_OF[c.paper]}, Sec. {c.section} ({c.key})",
+                f"    claim:     {c.statement}", f"    printed:   {c.printed}", f"    rederived: {c.rederived or '-'}",
+                f"    measured:  {c.measured or '-'}", f"    reason:    {c.reason}", ""]
+    counts = {v: sum(c.verdict == v for c in claims) for v in (HOLDS, FAILS, AMBIGUOUS)}
+    out.append("summary: " + ", ".join(f"{v} {k}" for k, v in counts.items()))
+    return "\n".join(out) + "\n"
+
+
+def _md_cell(text: str) -> str:
+    return (text or "-").replace("|", "\\|").replace("\n", " ")
+
+
+def render_md(claims: list[Claim]) -> str:
+    counts = {v: sum(c.verdict == v for c in claims) for v in (HOLDS, FAILS, AMBIGUOUS)}
+    out = ["# The papers' quantitative claims, checked", "",
+           "Generated by `silcount claims --format md` from `models/` (built-in data only for the committed copy). "
+           "Re-derived values use the papers' evaluation point v = 1 (every face light-facing), s = 0; "
+           "cycle verdicts use the paper's weights, other profiles are reported in the reason.", "",
+           "Summary: " + ", ".join(f"{v} {k}" for k, v in counts.items()), "",
+           "| # | verdict | paper | section | claim | printed | re-derived | measured | reason |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for c in claims:
+        out.append(f"| {c.id} | {c.verdict} | {PAPER_OF[c.paper]} | {_md_cell(c.section)} | {_md_cell(c.statement)} | "
+                   f"{_md_cell(c.printed)} | {_md_cell(c.rederived)} | {_md_cell(c.measured)} | {_md_cell(c.reason)} |")
+    return "\n".join(out) + "\n"
+
+
+def render_json(claims: list[Claim]) -> str:
+    keys = ("id", "paper", "section", "statement", "printed", "rederived", "measured", "verdict", "reason")
+    return json.dumps([{k: getattr(c, k) for k in keys} | {"key": c.key} for c in claims], indent=2) + "\n"
+
+
+def render(fmt: str, extra_profile: Profile | None = None, real: bool | None = None) -> str:
+    claims = all_claims(extra_profile, real)
+    return {"text": render_text, "md": render_md, "json": render_json}[fmt](claims)
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Write ``claims.txt``, ``claims.md`` and ``claims.json`` under ``out_dir`` (built-in data only: reproducible)."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    claims = all_claims(real=False)
+    paths = []
+    for fmt, fn in (("txt", render_text), ("md", render_md), ("json", render_json)):
+        path = out_dir / f"claims.{fmt}"
+        path.write_text(fn(claims), encoding="utf-8")
+        paths.append(path)
+    return paths

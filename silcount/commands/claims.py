@@ -1,16 +1,22 @@
-"""`silcount claims` (not yet implemented)."""
+"""`silcount claims`: every quantitative claim of the papers, with a computed verdict."""
 from __future__ import annotations
 
 import argparse
+import json
 
-from ..errors import BadArgument
+from ..claims import render
+from ..cycles import load_profile
 
-HELP = "claims (not yet implemented)"
+HELP = "every quantitative claim of the papers: printed, re-derived, measured, verdict"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    pass
+    parser.add_argument("--format", choices=("text", "md", "json"), default="text", help="output format (default text)")
+    parser.add_argument("--cycles", metavar="PROFILE|FILE", default=None,
+                        help="an extra cycle profile (built-in name or TOML file with [weights]) for the ordering claims")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise BadArgument("'claims' is not implemented yet")
+    profile = load_profile(args.cycles) if args.cycles else None
+    print(render(args.format, profile), end="")
+    return 0

@@ -1,16 +1,19 @@
-"""`silcount figures` (not yet implemented)."""
+"""`silcount figures`: operations by kind, cycle totals and growth plots (PNG and SVG)."""
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from ..errors import BadArgument
-
-HELP = "figures (not yet implemented)"
+HELP = "the papers' figures redrawn, as printed and corrected, and measured growth plots (PNG, SVG)"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    pass
+    parser.add_argument("--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise BadArgument("'figures' is not implemented yet")
+    from ..figures import report
+
+    for path in report(args.out):
+        print(path)
+    return 0

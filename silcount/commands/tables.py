@@ -1,16 +1,23 @@
-"""`silcount tables` (not yet implemented)."""
+"""`silcount tables`: the papers' operation-count tables, printed beside re-derived beside measured."""
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from ..errors import BadArgument
+from ..tables import FORMATS, render, report
 
-HELP = "tables (not yet implemented)"
+HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    pass
+    parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")
+    parser.add_argument("--out", type=Path, default=None, help="write tables.{md,csv,tex} into this directory")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise BadArgument("'tables' is not implemented yet")
+    if args.out is not None:
+        for path in report(args.out):
+            print(path)
+    else:
+        print(render(args.format), end="")
+    return 0

@@ -1,0 +1,138 @@
+"""The papers' figures, redrawn: operations by kind, cycle totals, growth.
+
+* ``operations``: operations by kind per algorithm at the tables' points
+  (EESD paper Figs. 7 and 8, HSD paper Figs. 5 and 6), as printed (the
+  papers' closed forms) and as corrected (per-line costs x loop structure with
+  corrected per-line costs; :mod:`silcount.formulas`);
+* ``cycles``: cycle-weighted totals per algorithm (EESD paper Fig. 9) for
+  each cycle profile (:mod:`silcount.cycles`), printed vs corrected;
+* ``growth``: measured tallies vs faces, log-log, with fitted exponents
+  (:mod:`silcount.sweep`).
+
+PNG and SVG via matplotlib's Agg backend, with fixed metadata and
+``svg.hashsalt`` so regenerated files are byte-identical.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from . import formulas as F  # noqa: E402
+from . import sweep  # noqa: E402
+from .cycles import builtin_profiles  # noqa: E402
+
+POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
+ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
+KINDS = (("mul", "Mult"), ("add", "Add"), ("cmp", "Compare"), ("read", "Read"), ("write", "Write"))
+COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555"}
+STYLE = {"svg.hashsalt": "silcount", "font.size": 10, "axes.grid": True, "grid.alpha": 0.3, "axes.axisbelow": True}
+
+
+def _save(fig, out_dir: Path, stem: str) -> list[Path]:
+    paths = []
+    for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
+        path = out_dir / f"{stem}.{ext}"
+        fig.savefig(path, dpi=110, metadata=meta, bbox_inches="tight")
+        paths.append(path)
+    plt.close(fig)
+    return paths
+
+
+def _value(model: str, which: str, point: dict) -> dict[str, float]:
+    return {k: float(x) for k, x in F.evaluate(F.forms(model)[which], **point).items()}
+
+
+def operations(out_dir: Path) -> list[Path]:
+    """Operations by kind per algorithm, printed vs corrected, at each table point (log scale)."""
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), sharey="row")
+    width = 0.8 / len(ALGORITHMS)
+    x = np.arange(len(KINDS))
+    for row, point in enumerate(POINTS):
+        for col, (which, title) in enumerate((("printed", "as printed"), ("corrected", "corrected"))):
+            ax = axes[row, col]
+            for i, (name, model) in enumerate(ALGORITHMS):
+                vals = _value(model, which, point)
+                heights = [max(vals[k], 0.5) for k, _ in KINDS]
+                ax.bar(x + (i - 1.5) * width, heights, width, label=name, color=COLOURS[name])
+            ax.set_yscale("log")
+            ax.set_xticks(x, [label for _, label in KINDS])
+            ax.set_title(f"n = {point['n']}, m = {point['m']}: {title}")
+            if col == 0:
+                ax.set_ylabel("operations (count, log scale)")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.suptitle("Operations by kind per algorithm: the papers' closed forms vs the corrected re-derivation\n"
+                 "(a zero count is drawn at 0.5)")
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
+    fig.legend(handles, labels, title="algorithm", ncols=4, loc="upper center", bbox_to_anchor=(0.5, 0.935), fontsize=9)
+    return _save(fig, out_dir, "operations")
+
+
+def cycles(out_dir: Path) -> list[Path]:
+    """Cycle-weighted totals per algorithm for every profile, printed vs corrected."""
+    profiles = builtin_profiles()
+    fig, axes = plt.subplots(len(POINTS), len(profiles), figsize=(13, 6.5))
+    names = [name for name, _ in ALGORITHMS]
+    x = np.arange(len(names))
+    for row, point in enumerate(POINTS):
+        for col, (pname, prof) in enumerate(profiles.items()):
+            ax = axes[row, col]
+            for j, (which, hatch) in enumerate((("printed", ""), ("corrected", "//"))):
+                tot = [prof.cycles(_value(model, which, point)) for _, model in ALGORITHMS]
+                ax.bar(x + (j - 0.5) * 0.4, tot, 0.4, color=[COLOURS[n] for n in names], hatch=hatch,
+                       edgecolor="black", linewidth=0.5, label=which)
+            ax.set_xticks(x, names)
+            ax.set_yscale("log")
+            ax.set_title(f"{pname}\nn = {point['n']}, m = {point['m']}", fontsize=9)
+            if col == 0:
+                ax.set_ylabel("cycles (log scale)")
+    handles = [plt.Rectangle((0, 0), 1, 1, facecolor="white", edgecolor="black", hatch=h) for h in ("", "//")]
+    fig.legend(handles, ["as printed", "corrected"], loc="upper right", ncols=2)
+    fig.suptitle("Cycle-weighted totals per algorithm and cycle profile", x=0.4)
+    fig.tight_layout()
+    return _save(fig, out_dir, "cycles")
+
+
+def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
+    """Measured total operations vs faces (icosphere sweep), log-log, with fitted exponents."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
+    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+    for ax, model in zip(axes, ("paper", "true")):
+        faces_all = []
+        for det in sweep.available_detectors():
+            series = sorted((r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
+                            key=lambda r: r.faces)
+            if not series:
+                continue
+            faces = [r.faces for r in series]
+            totals = [sum(r.tally[model].values()) for r in series]
+            b = sweep.fit_exponent(faces, totals)
+            faces_all += faces
+            ax.plot(faces, totals, marker="o", color=COLOURS[label_of[det]], label=f"{label_of[det]}: F^{b:.2f}" + (" (= TA)" if det == "hsd" else ""),
+                    linestyle="--" if det == "hsd" else "-")
+        f = np.array(sorted(set(faces_all)), dtype=float)
+        if f.size:
+            ax.plot(f, 10 * f**2, "k:", label="10 F^2 (the papers' O(n^2))")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("faces F (icosphere0 to icosphere4)")
+        ax.set_title(f"'{model}' cost model")
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=2)
+    axes[0].set_ylabel("operations per silhouette query (all kinds)")
+    fig.suptitle("Measured growth of operation counts (fast engine, one point light); legend: fitted exponent\n"
+                 "HSD equals TA here: icospheres have no coplanar neighbours to merge")
+    fig.tight_layout()
+    return _save(fig, out_dir, "growth")
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Write every figure (PNG and SVG) under ``out_dir``."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with plt.rc_context(STYLE):
+        return operations(out_dir) + cycles(out_dir) + growth(out_dir)

@@ -1,0 +1,181 @@
+"""The re-derivation (silcount/formulas.py) against brute force and the paper text.
+
+Independent checks: the loop structure of each printed pseudo-code is written
+out here as Python loops that add the per-line costs (EESD paper Sec. 5.1-5.3,
+HSD paper Sec. VI); TA's add/delete branch counts are checked by running the
+array-S algorithm on real closed meshes; printed lines are re-parsed from the
+text with sympy's implicit multiplication.
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+import sympy as sp
+from sympy.parsing.sympy_parser import (convert_xor, implicit_multiplication_application, parse_expr,
+                                        split_symbols, standard_transformations)
+
+import silcount
+from silcount import formulas as F
+from silcount import models
+from silcount.counting import KINDS
+
+MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
+
+
+def _cost(model: str, step: str) -> dict[str, int]:
+    """A step's annotated cost at numeric e_n (read from models/: the per-line costs are data)."""
+    return {k: v for k, v in models.load(model)["steps"][step].get("cost", {}).items()}
+
+
+def _add(total, model, step, e):
+    for kind, expr in _cost(model, step).items():
+        total[kind] += int(F.parse(expr).subs(F.e_n, e))
+
+
+def brute_printed_charge(model: str, f: int, e: int, m: int) -> dict[str, int]:
+    """The printed sums' loops, executed: every conditional line charged every time (as the sums do)."""
+    total = dict.fromkeys(KINDS, 0)
+    algorithm = models.load(model)["algorithm"]
+    if algorithm in ("ta", "hsd"):
+        sides = m if algorithm == "ta" else 1          # HSD's printed sum: one side per polygon
+        for _face in range(f):
+            _add(total, model, "visibility", e)
+            for _side in range(sides):
+                _add(total, model, "search_S", e)
+                _add(total, model, "delete", e)     # the sums charge the delete branch, never add
+    elif algorithm == "vnv":
+        for _edge in range(e):
+            for _face in range(f):
+                _add(total, model, "visibility", e)
+                _add(total, model, "counter", e)
+            _add(total, model, "check_counter", e)
+            _add(total, model, "add", e)
+    else:  # eesd
+        for _edge in range(e):
+            _add(total, model, "extend", e)
+            _add(total, model, "ray", e)
+            for _face in range(f):
+                _add(total, model, "intersection", e)
+    return total
+
+
+@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize("f, e, m", [(1, 1, 1), (3, 5, 3), (4, 6, 3), (7, 9, 4), (5, 12, 6)])
+def test_charged_sum_equals_brute_force_loops(model, f, e, m):
+    expected = brute_printed_charge(model, f, e, m)
+    got = {k: int(x.subs({F.f_n: f, F.e_n: e, F.m: m})) for k, x in F.charged(model).items()}
+    assert got == expected
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_printed_first_line_is_the_charged_sum(model):
+    # the first printed line is the per-line costs times the printed loop charges, term by term
+    assert F.difference(F.printed_lines(model)[0].form, F.charged(model)) == {}
+
+
+_T = standard_transformations + (split_symbols, implicit_multiplication_application, convert_xor)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_transcriptions_match_the_printed_text(model):
+    ren = {F.e_n: sp.Symbol("e"), F.f_n: sp.Symbol("f"), F.n: sp.Symbol("n"), F.m: sp.Symbol("m")}
+    for line in models.load(model)["closed_form"]["lines"]:
+        text = line["printed"].lstrip("= ").replace("^*", "*").replace("e_n", "e").replace("f_n", "f").replace(" ", "")
+        parsed = parse_expr(text, transformations=_T)
+        assert sp.expand(parsed - F.parse(line["expr"]).subs(ren)) == 0, line["printed"]
+
+
+def test_ta_final_line_drops_the_visibility_compares():
+    # line 2 has n*(1C + 6nmC); the printed line 3 keeps only 6n^2 m C (Sec. 5.1)
+    steps = F.expansion_steps("eesd2012-ta")
+    assert steps[0][2] == {}
+    assert steps[1][2] == {"cmp": -F.n}
+
+
+def test_vnv_eesd_hsd_expansions_are_consistent():
+    for model in ("eesd2012-vnv", "eesd2012-eesd", "hsd2011-hsd"):
+        assert all(diff == {} for *_, diff in F.expansion_steps(model))
+
+
+def test_printed_forms_at_table_one_by_hand():
+    # hand arithmetic at n=10, m=5 from the printed last lines (EESD Sec. 5.1-5.3)
+    ta = F.evaluate(F.printed_final("eesd2012-ta"), n=10, m=5)
+    assert ta["read"] == 6 * 100 * 5 + 5 * 10 + 8 * 10 == 3130
+    vnv = F.evaluate(F.printed_final("eesd2012-vnv"), n=100, m=10)
+    assert vnv["read"] == 48 * 100**2 + 6 * 100 == 480600
+    eesd = F.evaluate(F.printed_final("eesd2012-eesd"), n=10, m=5)
+    assert (eesd["mul"], eesd["add"]) == (18 * 100 + 180, 18 * 100 + 360)
+
+
+def test_paper_cycle_totals_by_hand():
+    w = {"mul": 4, "add": 2, "cmp": 3, "read": 1, "write": 2}
+    n, m = F.n, F.m
+    # TA: 3*6n^2m + (6n^2m + mn + 8n) + 4(m+10)n + 2*8n + 2*2mn
+    assert sp.expand(F.weighted(F.printed_final("eesd2012-ta"), w) - (24 * n**2 * m + 9 * m * n + 64 * n)) == 0
+    # HSD: 3(6n^2+n) + (6n^2+9n) + 4*11n + 2*8n + 2*2n
+    assert sp.expand(F.weighted(F.printed_final("hsd2011-hsd"), w) - (24 * n**2 + 76 * n)) == 0
+    # VnV: 240n^2 + 108n^2 + 18n^2 + 18n + 48n^2 + 6n + 12n ; EESD: 72n^2+72n + 36n^2+72n + 18n^2 + 12n + 24n
+    assert sp.expand(F.weighted(F.printed_final("eesd2012-vnv"), w) - (414 * n**2 + 36 * n)) == 0
+    assert sp.expand(F.weighted(F.printed_final("eesd2012-eesd"), w) - (126 * n**2 + 180 * n)) == 0
+
+
+def _ta_branch_counts(mesh, light):
+    """Run TA's array S (starting empty) over light-facing faces; count adds and deletes."""
+    facing, _ = silcount.detectors.base.facing(mesh, light)
+    S: list[tuple[int, int]] = []
+    adds = deletes = 0
+    for p in np.flatnonzero(facing):
+        corners = mesh.corners[mesh.face_start[p]:mesh.face_start[p + 1]]
+        for a, b in zip(corners, np.roll(corners, -1)):
+            if (b, a) in S:
+                S.remove((b, a))
+                deletes += 1
+            else:
+                S.append((a, b))
+                adds += 1
+    return adds, deletes, int(facing.sum()), len(S)
+
+
+@pytest.mark.parametrize("name", ["tetrahedron", "quad_cube", "icosahedron", "torus", "icosphere2"])
+def test_ta_branch_fractions_match_simulation(name):
+    mesh = silcount.builtin_mesh(name)
+    light = silcount.PointLight(tuple(mesh.centre + np.array([2.0, 3.0, 5.0]) * mesh.bounding_radius))
+    adds, deletes, visible, sil = _ta_branch_counts(mesh, light)
+    subs = {F.f_n: mesh.n_faces, F.e_n: mesh.n_edges, F.m: sp.Rational(mesh.n_sides, mesh.n_faces),
+            F.v: sp.Rational(visible, mesh.n_faces), F.s: sp.Rational(sil, mesh.n_edges)}
+    assert F.step_runs("eesd2012-ta", "add")[1].subs(subs) == adds
+    assert F.step_runs("eesd2012-ta", "delete")[1].subs(subs) == deletes
+    assert F.step_runs("eesd2012-ta", "search_S")[1].subs(subs) == adds + deletes
+
+
+@pytest.mark.parametrize("kernel, expected", [
+    ("dot", {"mul": 3, "add": 2}),                 # a0b0 + a1b1 + a2b2
+    ("vector_add", {"add": 3}),
+    ("ray_point", {"mul": 3, "add": 3}),          # x0 + t d
+    ("light_vector", {"add": 3}),                 # L - p0
+    ("normal_from_corners", {"add": 9, "mul": 6}),  # 2 differences (6A) + cross product (6M + 3A)
+])
+def test_kernel_costs_by_hand(kernel, expected):
+    assert F.kernel_cost(kernel) == expected
+
+
+def test_corrected_visibility_cost_is_what_the_detectors_execute():
+    from silcount.detectors.base import visibility_true_cost
+
+    measured = visibility_true_cost(silcount.PointLight((0.0, 0.0, 5.0)))
+    for model in (m for m in MODELS if "visibility" in models.load(m)["steps"]):
+        spec = models.load(model)["steps"]["visibility"]["cost_corrected"]
+        assert {k: int(v) for k, v in spec.items()} == measured
+
+
+def test_rederived_hsd_uses_m_minus_one():
+    form = F.forms("hsd2011-hsd")["rederived"]
+    # search: f_n (m-1) e_n compares + one visibility compare per polygon
+    assert sp.expand(form["cmp"] - (6 * F.n**2 * (F.m - 1) + F.n)) == 0
+
+
+def test_leading_and_degree():
+    assert F.leading(3 * F.n**2 * F.m + F.n) == 3 * F.n**2 * F.m
+    assert F.degree(F.weighted(F.forms("eesd2012-eesd")["rederived"], dict.fromkeys(KINDS, 1))) == 2
