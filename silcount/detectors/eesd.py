@@ -45,7 +45,7 @@ Variants
 ``intended``
     ``Intersection(R, f)`` is a real ray-polygon test: Moller-Trumbore on the
     face's fan triangles ``(p0, p_k, p_k+1)`` (:mod:`silcount.raytrace`, tie
-    rule there), and the edge is added once, after the face loop, iff no face
+    rule there; exact for convex polygons, as the papers' faces are), and the edge is added once, after the face loop, iff no face
     is hit (a hit counter, as VnV's).  On convex meshes this is the reference
     silhouette; on non-convex ones a silhouette edge whose ``P`` is hidden
     behind another part of the mesh is missed (a subset of the reference,
@@ -86,8 +86,10 @@ same points with numpy in the same order of operations and finds the edges
 with :class:`silcount.raytrace.RayTracer`, casting only the rays that matter:
 a ray that meets one of its own edge's faces (the same Moller-Trumbore test,
 bit for bit, via ``hits_triangle``) is blocked in the full loop too, so only
-the rays that miss their own faces (the candidate silhouette edges, about
-``sqrt(F)`` of them) are cast through the grid.  ``literal``'s plane test has
+the rays that miss their own faces are cast through the grid: on a closed
+mesh these are exactly the edges whose faces lie on one side as seen from
+the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
+the 1M-face subdivided bunny).  ``notes['rays_cast']`` (fast engine only).  ``literal``'s plane test has
 no spatial shortcut (an infinite plane can pass through any ``P``), so its
 fast engine counts the exact-zero pairs with a compiled ``E x F`` loop and
 refuses meshes above ``LITERAL_PAIR_LIMIT`` pairs.
