@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..claims import render
+from ..claims import render, report  # noqa: F401  (report: used by `silcount report`)
 from ..cycles import load_profile
 
 HELP = "every quantitative claim of the papers: printed, re-derived, measured, verdict"

@@ -11,9 +11,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)")
 
 
-def run(args: argparse.Namespace) -> int:
-    from ..figures import report
+def report(out_dir: Path) -> list[Path]:
+    """Write every figure under ``out_dir`` (used by `silcount report`)."""
+    from ..figures import report as write
 
+    return write(out_dir)
+
+
+def run(args: argparse.Namespace) -> int:
     for path in report(args.out):
         print(path)
     return 0

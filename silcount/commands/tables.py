@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..tables import FORMATS, render, report
+from ..tables import FORMATS, render, report  # report: also used by `silcount report`
 
 HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
 
