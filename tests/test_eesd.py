@@ -159,3 +159,28 @@ def test_open_triangle_soup_naive_equals_fast(shared_mesh):
     light = silcount.PointLight(soup.centre + 3 * soup.bounding_radius * np.array([0.3, 0.8, 0.5]))
     for variant in ("intended", "literal"):
         both_engines(soup, light, variant)
+
+
+def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
+    # The fast engine settles most edges by their own faces and casts only the rest through the grid.
+    # Check it against rays tested against every fan triangle (the naive loop's decisions, by the
+    # same compiled test), on the cow, for the reference silhouette edges and 500 random others.
+    from silcount.detectors.eesd import _mesh_data, _tracer, outward_points_and_rays
+
+    mesh = shared_mesh("cow.obj")
+    rng = np.random.default_rng(3)
+    for light in (silcount.PointLight(mesh.centre + 2.5 * mesh.bounding_radius * np.array([0.6, 0.7, -0.4])),
+                  silcount.DirectionalLight((-0.3, 1.0, 0.2))):
+        res = silcount.detect(mesh, light, "eesd")
+        ref = silcount.detect(mesh, light, "reference")
+        edges = np.union1d(ref.edge_ids, rng.choice(mesh.n_edges, 500, replace=False))
+        _, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
+        tracer, T = _tracer(mesh), _mesh_data(mesh)["tri_idx"].shape[0]
+        escapes = np.zeros(edges.size, dtype=bool)
+        for lo in range(0, edges.size, 200):
+            e = np.repeat(edges[lo:lo + 200], T)
+            tri = np.tile(np.arange(T), e.size // T)
+            hit = tracer.hits_triangle(origins[e], directions[e], tri, t_min, t_max)
+            escapes[lo:lo + 200] = ~hit.reshape(-1, T).any(axis=1)
+        assert np.array_equal(np.intersect1d(res.edge_ids, edges), edges[escapes])
+        assert 0 < res.n_edges < ref.n_edges
