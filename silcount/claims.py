@@ -449,7 +449,12 @@ def render(fmt: str, extra_profile: Profile | None = None, real: bool | None = N
 
 
 def report(out_dir: Path) -> list[Path]:
-    """Write ``claims.txt``, ``claims.md`` and ``claims.json`` under ``out_dir`` (built-in data only: reproducible)."""
+    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}`` (built-in data only: reproducible)."""
+    return write_all(Path(out_dir) / "claims")
+
+
+def write_all(out_dir: Path) -> list[Path]:
+    """Write ``claims.txt``, ``claims.md`` and ``claims.json`` into ``out_dir`` (built-in data only)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     claims = all_claims(real=False)

@@ -131,7 +131,12 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
 
 
 def report(out_dir: Path) -> list[Path]:
-    """Write every figure (PNG and SVG) under ``out_dir``."""
+    """The committed outputs: every figure under ``<out_dir>/figures/``."""
+    return write_all(Path(out_dir) / "figures")
+
+
+def write_all(out_dir: Path) -> list[Path]:
+    """Write every figure (PNG and SVG) into ``out_dir``."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     with plt.rc_context(STYLE):

@@ -151,7 +151,12 @@ def render(fmt: str) -> str:
 
 
 def report(out_dir: Path) -> list[Path]:
-    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` under ``out_dir``."""
+    """The committed outputs: ``<out_dir>/tables/tables.{md,csv,tex}``."""
+    return write_all(Path(out_dir) / "tables")
+
+
+def write_all(out_dir: Path) -> list[Path]:
+    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` into ``out_dir``."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []

@@ -92,7 +92,8 @@ def test_digit_slip_names_the_conversion_suspects():
 @pytest.mark.parametrize("name", ["claims.txt", "claims.md", "claims.json"])
 def test_committed_reports_are_regenerated(tmp_path, name):
     written = claims.report(tmp_path)
+    tmp_path = tmp_path / "claims"
     assert [p.name for p in written] == ["claims.txt", "claims.md", "claims.json"]
     committed = ROOT / "reports" / "claims" / name
     assert committed.read_text() == (tmp_path / name).read_text(), \
-        "reports/claims is stale: run `python -c \"from silcount import claims; claims.report('reports/claims')\"`"
+        "reports/claims is stale: run `silcount report` (or claims.report('reports'))"

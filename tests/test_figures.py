@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parent.parent
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory):
     out = tmp_path_factory.mktemp("figures")
-    return out, figures.report(out)
+    return out / "figures", figures.report(out)
 
 
 def test_every_figure_in_png_and_svg(generated):

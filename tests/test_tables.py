@@ -52,5 +52,6 @@ def test_tex_and_md_render():
 @pytest.mark.parametrize("name", ["tables.md", "tables.csv", "tables.tex"])
 def test_committed_reports_are_regenerated(tmp_path, name):
     tables.report(tmp_path)
+    tmp_path = tmp_path / "tables"
     assert (ROOT / "reports" / "tables" / name).read_text() == (tmp_path / name).read_text(), \
-        "reports/tables is stale: run `silcount tables --out reports/tables`"
+        "reports/tables is stale: run `silcount tables --out reports/tables` (or `silcount report`)"

@@ -12,13 +12,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def report(out_dir: Path) -> list[Path]:
-    """Write every figure under ``out_dir`` (used by `silcount report`)."""
+    """Write every figure under ``<out_dir>/figures/`` (used by `silcount report`)."""
     from ..figures import report as write
 
     return write(out_dir)
 
 
 def run(args: argparse.Namespace) -> int:
-    for path in report(args.out):
+    from ..figures import write_all
+
+    for path in write_all(args.out):
         print(path)
     return 0
