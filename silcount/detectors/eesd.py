@@ -49,7 +49,12 @@ Variants
     is hit (a hit counter, as VnV's).  On convex meshes this is the reference
     silhouette; on non-convex ones a silhouette edge whose ``P`` is hidden
     behind another part of the mesh is missed (a subset of the reference,
-    ``notes['missed_edges']``).
+    ``notes['missed_edges']``).  On a closed mesh a line that passes through
+    the solid meets its surface, so only the edges of the *outline* (the
+    boundary of the mesh's projection from the light) survive: 202 of the
+    cow's 765 contour edges for one light at 3 radii.  A face seen within about
+    ``EPS`` radians of edge-on can let the ray pass beyond it, so in such
+    near-ties an edge outside the reference can appear (``extra_edges``).
 ``literal``
     As printed: "if aR_x+bR_y+cR_z+d=0 then the ray intersected the plane"
     (Sec. 5.3), evaluated at the ray's point ``R = v1'`` (our ``P``) and
