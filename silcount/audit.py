@@ -140,9 +140,10 @@ def _one_run(mesh: Mesh, light: Light, name: str, variant: str, settings: AuditS
         "tallies": tallies,
         "steps": dict(sorted(res.steps.items())),
         "cycles": {model: weighted(t, profile[1]) for model, t in tallies.items()},
-        "formula_printed": None,
+        "formula_printed": printed_formula(name, mesh, res.notes),
         "time_s": elapsed if settings.with_time else None,
     }
+    _with_ratios(out, profile, 1)
     if settings.with_edges:
         out["edges"] = mesh.vertices[res.edges].tolist()
     return out
@@ -173,7 +174,8 @@ def _aggregate(results: list[dict], with_time: bool) -> dict:
         "tallies": {},
         "steps": {},
         "cycles": {},
-        "formula_printed": None,
+        "formula_printed": first["formula_printed"] and {
+            k: v for k, v in first["formula_printed"].items() if k not in ("ratio", "cycles_ratio")},
         "time_s": sum(r["time_s"] for r in results) if with_time else None,
     }
     for r in results:
@@ -184,18 +186,15 @@ def _aggregate(results: list[dict], with_time: bool) -> dict:
     return agg
 
 
-def _with_formula(entry: dict, mesh: Mesh, profile: tuple[str, dict], lights: int) -> None:
-    printed = printed_formula(entry["detector"], mesh)
+def _with_ratios(entry: dict, profile: tuple[str, dict], lights: int) -> None:
+    """Put the printed formula's cycles and its ratios to the measured tallies (summed over ``lights``)."""
+    printed = entry["formula_printed"]
     if printed is None:
         return
-    printed_cycles = weighted(printed["tally"], profile[1])
-    entry["formula_printed"] = {
-        **printed,
-        "cycles": printed_cycles,
-        "ratio": {model: _ratios(t, printed["tally"], lights) for model, t in entry["tallies"].items()},
-        "cycles_ratio": {model: (c / (lights * printed_cycles) if printed_cycles else None)
-                         for model, c in entry["cycles"].items()},
-    }
+    printed["cycles"] = printed_cycles = weighted(printed["tally"], profile[1])
+    printed["ratio"] = {model: _ratios(t, printed["tally"], lights) for model, t in entry["tallies"].items()}
+    printed["cycles_ratio"] = {model: (c / (lights * printed_cycles) if printed_cycles else None)
+                               for model, c in entry["cycles"].items()}
 
 
 def run_audit(mesh: Mesh, lights: list[Light], settings: AuditSettings = AuditSettings(),
@@ -217,13 +216,12 @@ def run_audit(mesh: Mesh, lights: list[Light], settings: AuditSettings = AuditSe
             results = {}
             for key, name, variant in runs:
                 results[key] = _one_run(mesh, light, name, variant, settings, ref.edge_ids, profile)
-                _with_formula(results[key], mesh, profile, 1)
                 bar.advance(what=f"light {i} {key}")
             per_light.append({"light": info, "detectors": results})
     detectors = {}
     for key, _, _ in runs:
         detectors[key] = _aggregate([pl["detectors"][key] for pl in per_light], settings.with_time)
-        _with_formula(detectors[key], mesh, profile, len(lights))
+        _with_ratios(detectors[key], profile, len(lights))
     return {
         "silcount_version": __version__,
         "schema": SCHEMA,

@@ -7,9 +7,9 @@ Sec. 6) and ``unit`` weighs every operation 1.  A TOML file with a
 ``[weights]`` table (``add = 2`` ...) is a user profile.  Kinds a profile does
 not weigh (e.g. ``div`` under the paper's profile) add nothing to the total.
 
-The printed closed forms come from :mod:`silcount.formulas` (``models/``);
-until it is installed, ``printed_formula`` returns ``None`` and the audit
-reports ``formula_printed: null``.
+The printed closed forms are the last printed line of each model's
+``[closed_form]`` in ``models/``, through :mod:`silcount.formulas`, evaluated
+at the mesh's ``n`` (faces; HSD: merged polygons) and ``m`` (mean sides).
 """
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ import tomllib
 from pathlib import Path
 
 from .errors import BadArgument
+from . import models
 from .mesh import Mesh
 
 FALLBACK_PROFILES = {
@@ -68,9 +69,35 @@ def weighted(tally: dict[str, float], weights: dict[str, float]) -> float:
     return int(total) if float(total).is_integer() else float(total)
 
 
-def printed_formula(detector: str, mesh: Mesh) -> dict | None:
-    """The paper's printed closed form for ``detector`` at this mesh's ``n`` and ``m``, or ``None``."""
+def formula_point(detector: str, mesh: Mesh, notes: dict) -> tuple[float, float]:
+    """The papers' ``n`` and ``m`` for this mesh: faces and mean sides; for HSD its polygons (HSD Sec. 6.3)."""
+    merged = notes.get("merge")
+    if detector == "hsd" and isinstance(merged, dict):
+        return merged["polygons"], merged["mean_sides"]
+    return mesh.n_faces, mesh.mean_sides
+
+
+def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dict | None:
+    """The paper's printed closed form for ``detector`` at this mesh's ``n`` and ``m``, or ``None``.
+
+    ``n`` is the papers' face count (they substitute ``f_n = n``, ``e_n = 6n``),
+    ``m`` the mean sides per face; ``None`` for ``reference`` (no paper) or
+    while :mod:`silcount.formulas` is not installed.
+    """
     formulas = _optional("formulas")
-    if formulas is None or not hasattr(formulas, "printed_at_mesh"):
+    if formulas is None:
         return None
-    return formulas.printed_at_mesh(detector, mesh)
+    model = models.DEFAULT_PAPER_MODEL[detector]
+    spec = models.load(model)
+    if "closed_form" not in spec:
+        return None
+    n, m = formula_point(detector, mesh, notes or {})
+    values = formulas.evaluate(formulas.printed_final(model), n=n, m=m)
+    return {
+        "model": model,
+        "source": f"{spec.get('source_file', model)} Sec. {spec['closed_form'].get('section', '?')}",
+        "printed": formulas.printed_lines(model)[-1].printed,
+        "n": n,
+        "m": m,
+        "tally": {k: (int(v) if v.is_integer else float(v)) for k, v in values.items()},
+    }

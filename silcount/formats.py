@@ -67,6 +67,9 @@ def _mesh_lines(mesh: dict, markdown: bool) -> list[str]:
         "vertices", "faces", "edges", "mean_sides", "closed", "consistently_wound", "boundary_edges",
         "nonmanifold_edges", "inconsistent_edges", "degenerate_faces", "zero_normal_faces", "duplicate_faces",
         "collapsed_faces_dropped", "components", "euler_characteristic", "genus")]
+    cop = mesh.get("coplanar")
+    if cop:
+        rows += [["coplanar polygons (HSD)", fmt(cop["polygons"])], ["polygon mean sides m (HSD)", fmt(cop["mean_sides"])]]
     rows += [[f"{r} (paper assumes {fmt(mesh['paper_ratios'][r])})", fmt(v)] for r, v in mesh["ratios"].items()]
     return table(["mesh statistic", "value"], rows, markdown)
 

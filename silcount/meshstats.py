@@ -15,6 +15,8 @@ Definitions used here:
 * *degenerate face*: zero area (Newell normal exactly zero); *zero-normal
   face*: the normal from the first three corners, which the light-facing
   test uses, is exactly zero, so the face is a tie under every light;
+* *coplanar polygons*: HSD's merge of adjacent exactly coplanar faces
+  (HSD 2011 Sec. V), its polygon count and mean sides ``m``;
 * *duplicate face*: the same set of vertices as an earlier face (counted
   beyond the first).
 """
@@ -24,6 +26,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from .coplanar import merge
 from .mesh import Mesh
 
 PAPER_RATIOS = {"V/F": 2.0, "E/F": 6.0, "E/V": 3.0}
@@ -85,7 +88,15 @@ def mesh_statistics(mesh: Mesh) -> dict:
         "euler_characteristic": chi,
         "genus": genus,
         "bounding_radius": mesh.bounding_radius,
+        "coplanar": coplanar_polygons(mesh),
     }
+
+
+def coplanar_polygons(mesh: Mesh) -> dict:
+    """HSD's polygons: adjacent, exactly coplanar, same-orientation faces merged (:mod:`silcount.coplanar`, ``tight``)."""
+    merged = merge(mesh, "tight")
+    return {"criterion": merged.criterion, "polygons": merged.n_polygons, "polygon_edges": merged.n_polygon_edges,
+            "interior_edges": int(np.count_nonzero(merged.interior)), "mean_sides": merged.mean_sides}
 
 
 def mesh_warnings(stats: dict) -> list[str]:
