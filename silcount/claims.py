@@ -58,8 +58,11 @@ def _num(x) -> str:
     return f"{float(x):.4g}"
 
 
+LABEL = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+
+
 def _algo(model: str) -> str:
-    return models.load(model)["algorithm"].upper()
+    return LABEL[models.load(model)["algorithm"]]
 
 
 def _cycles(model: str, which: str, weights: dict[str, float]) -> sp.Expr:
@@ -207,7 +210,18 @@ def _m_range(winner: str, other: str, which: str, weights) -> tuple[sp.Expr, sp.
     lw, lo = (sp.expand(F.leading(_cycles(mdl, which, weights)) / F.n**2) for mdl in (winner, other))
     sol = sp.solve_univariate_inequality(sp.Lt(lw, lo), F.m, relational=False) if (lw - lo).has(F.m) else (
         sp.S.Reals if sp.simplify(lw - lo) < 0 else sp.S.EmptySet)
-    return lw, lo, sp.sstr(sol.intersect(sp.Interval(3, sp.oo)))
+    return lw, lo, _show_set(sol.intersect(sp.Interval(3, sp.oo)))
+
+
+def _show_set(interval: sp.Set, var: str = "m", empty: str = "no m >= 3") -> str:
+    """An interval as an inequality in ``var`` (m >= 3: a face has at least three sides)."""
+    if interval is sp.S.EmptySet:
+        return empty
+    if not isinstance(interval, sp.Interval):
+        return sp.sstr(interval)
+    lo = f"{sp.sstr(interval.start)} {'<' if interval.left_open else '<='} " if interval.start != -sp.oo else ""
+    hi = f" {'<' if interval.right_open else '<='} {sp.sstr(interval.end)}" if interval.end != sp.oo else ""
+    return f"{lo}{var}{hi}"
 
 
 def _check_fewest_asymptotic(c: dict, profiles: dict[str, Profile]) -> tuple[str, str, str, str]:
@@ -219,9 +233,13 @@ def _check_fewest_asymptotic(c: dict, profiles: dict[str, Profile]) -> tuple[str
     for other in others:
         lw, lo, where = _m_range(winner, other, "rederived", paper)
         plw, plo, pwhere = _m_range(winner, other, "printed", paper)
-        parts.append(f"vs {_algo(other)}: ({sp.sstr(lw)}) n^2 < ({sp.sstr(lo)}) n^2 for m in {where}")
-        printed_parts.append(f"vs {_algo(other)}: ({sp.sstr(plw)}) n^2 vs ({sp.sstr(plo)}) n^2, smaller for m in {pwhere}")
+        parts.append(f"vs {_algo(other)}: ({sp.sstr(lw)}) n^2 < ({sp.sstr(lo)}) n^2 for {where}")
+        printed_parts.append(f"vs {_algo(other)}: ({sp.sstr(plw)}) n^2 vs ({sp.sstr(plo)}) n^2, smaller for {pwhere}")
         holds_all &= all(bool((lw - lo).subs(F.m, mv) < 0) for mv in m_values)
+        for mv in m_values:
+            diff = (_cycles(winner, "rederived", paper) - _cycles(other, "rederived", paper)).subs(F.m, mv)
+            where_n = sp.solve_univariate_inequality(sp.Lt(diff, 0), F.n, relational=False).intersect(sp.Interval.open(0, sp.oo))
+            parts.append(f"at m = {mv} vs {_algo(other)}: {_show_set(where_n, 'n', 'for no n > 0')}")
 
     def survives(p: Profile) -> bool:
         return all(bool((F.leading(_cycles(winner, "rederived", p.weights)) - F.leading(_cycles(o, "rederived", p.weights)))

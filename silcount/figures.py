@@ -130,6 +130,61 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
     return _save(fig, out_dir, "growth")
 
 
+def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
+    """Measured tallies per operation kind vs faces, log-log, one panel per kind and cost model."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    kinds = [k for k, _ in KINDS]
+    fig, axes = plt.subplots(2, len(kinds), figsize=(15, 6.5), sharex=True)
+    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+    exps = sweep.exponents(runs)
+    for row, model in enumerate(("paper", "true")):
+        for col, (kind, kind_label) in enumerate(KINDS):
+            ax = axes[row, col]
+            for det in sweep.available_detectors():
+                series = sorted((r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
+                                key=lambda r: r.faces)
+                pts = [(r.faces, r.tally[model][kind]) for r in series if r.tally[model][kind] > 0]
+                if not pts:
+                    continue
+                b = exps[(det, model, kind)]
+                ax.plot(*zip(*pts), marker="o", markersize=3, color=COLOURS[label_of[det]],
+                        linestyle="--" if det == "hsd" else "-", label=f"{label_of[det]} {b:.2f}")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_title(f"{kind_label} ('{model}' model)", fontsize=9)
+            ax.legend(fontsize=7, title="exponent", title_fontsize=7)
+            if row == 1:
+                ax.set_xlabel("faces F")
+            if col == 0:
+                ax.set_ylabel("count per query")
+    fig.suptitle("Measured operation counts by kind vs faces (icosphere sweep, log-log; legend: fitted exponent b in count ~ F^b)")
+    fig.tight_layout()
+    return _save(fig, out_dir, "growth_by_kind")
+
+
+def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
+    """The fitted exponents as a markdown table (written beside the growth plots)."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    exps = sweep.exponents(runs)
+    lines = ["# Measured growth: fitted exponent b in count ~ F^b", "",
+             "Fast engine, the detectors' measured variants (`silcount.sweep.MEASURED_VARIANT`), one point light, "
+             f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count.", "",
+             "| detector | cost model | " + " | ".join(label for _, label in KINDS) + " |",
+             "|---|---|" + "---:|" * len(KINDS)]
+    for det in sweep.available_detectors():
+        for model in ("paper", "true"):
+            vals = [exps.get((det, model, k)) for k, _ in KINDS]
+            lines.append(f"| {det} | {model} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in vals) + " |")
+    lines += ["", "| mesh | faces | " + " | ".join(f"{d} true total" for d in sweep.available_detectors()) + " |",
+              "|---|---:|" + "---:|" * len(sweep.available_detectors())]
+    for mesh in sweep.SWEEP_MESHES:
+        row = {r.detector: r for r in runs if r.mesh == mesh}
+        faces = next(iter(row.values())).faces
+        lines.append(f"| {mesh} | {faces} | " + " | ".join(
+            str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in sweep.available_detectors()) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def report(out_dir: Path) -> list[Path]:
     """The committed outputs: every figure under ``<out_dir>/figures/``."""
     return write_all(Path(out_dir) / "figures")
@@ -139,5 +194,7 @@ def write_all(out_dir: Path) -> list[Path]:
     """Write every figure (PNG and SVG) into ``out_dir``."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    table = out_dir / "growth.md"
+    table.write_text(exponent_table(), encoding="utf-8")
     with plt.rc_context(STYLE):
-        return operations(out_dir) + cycles(out_dir) + growth(out_dir)
+        return operations(out_dir) + cycles(out_dir) + growth(out_dir) + growth_by_kind(out_dir) + [table]

@@ -19,13 +19,15 @@ def generated(tmp_path_factory):
 def test_every_figure_in_png_and_svg(generated):
     _, paths = generated
     names = sorted(p.name for p in paths)
-    assert names == sorted(f"{stem}.{ext}" for stem in ("operations", "cycles", "growth") for ext in ("png", "svg"))
-    assert all(p.stat().st_size > 10_000 for p in paths)
+    stems = ("operations", "cycles", "growth", "growth_by_kind")
+    assert names == sorted([f"{stem}.{ext}" for stem in stems for ext in ("png", "svg")] + ["growth.md"])
+    assert all(p.stat().st_size > 10_000 for p in paths if p.suffix != ".md")
 
 
 def test_svg_is_deterministic_and_committed(generated):
     out, _ = generated
-    for stem in ("operations", "cycles", "growth"):
+    assert (out / "growth.md").read_text() == (ROOT / "reports" / "figures" / "growth.md").read_text()
+    for stem in ("operations", "cycles", "growth", "growth_by_kind"):
         svg = (out / f"{stem}.svg").read_text()
         assert "<dc:date>" not in svg
         assert svg == (ROOT / "reports" / "figures" / f"{stem}.svg").read_text(), \
