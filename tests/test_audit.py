@@ -1,0 +1,217 @@
+"""`silcount.audit`: mesh statistics, lights, agreement, aggregation, printed formulas, the JSON schema.
+
+Expected values are hand counts on tiny meshes (reasoning beside each) or the
+papers' printed formulas typed from the text; none is computed by the code under test.
+"""
+from __future__ import annotations
+
+import io
+import json
+
+import numpy as np
+import pytest
+
+import silcount
+from silcount import PointLight, DirectionalLight, from_polygons
+from silcount.audit import AuditSettings, random_lights, run_audit, winding_number
+from silcount.commands import report as report_cmd
+from silcount.commands.audit import available_detectors
+from silcount.counting import KINDS
+from silcount.formats import render
+from silcount.meshstats import mesh_statistics
+from silcount.progress import Progress
+from pathlib import Path
+
+from meshfiles import TETRA_F, TETRA_V, obj_text, write
+
+REPO = Path(__file__).resolve().parent.parent
+EXACT = ("reference", "ta", "vnv", "hsd")   # detectors whose intended variant must equal the reference everywhere
+
+
+def audit(mesh, lights, **kw):
+    kw.setdefault("detectors", available_detectors())
+    return run_audit(mesh, lights, AuditSettings(**kw), quiet=True)
+
+
+# ---- mesh statistics, by hand ----------------------------------------------------------------
+def test_statistics_of_the_tetrahedron_and_quad_cube():
+    t = mesh_statistics(silcount.builtin_mesh("tetrahedron"))
+    assert (t["vertices"], t["faces"], t["edges"]) == (4, 4, 6)
+    assert (t["euler_characteristic"], t["genus"], t["components"]) == (2, 0, 1)   # 4 - 6 + 4 = 2: a sphere
+    c = mesh_statistics(silcount.builtin_mesh("quad_cube"))
+    assert (c["vertices"], c["faces"], c["edges"], c["mean_sides"]) == (8, 6, 12, 4.0)
+    assert c["ratios"]["E/F"] == 2.0 and c["paper_ratios"]["E/F"] == 6.0     # 12/6 against the papers' e_n = 6n
+    assert c["coplanar"]["polygons"] == 6 and c["coplanar"]["mean_sides"] == 4.0
+
+
+def test_triangle_cube_merges_back_into_six_quads():
+    # 12 triangles, two per face of the cube, each pair exactly coplanar: 6 polygons of 4 boundary sides
+    c = mesh_statistics(silcount.builtin_mesh("triangle_cube"))
+    assert c["faces"] == 12 and c["coplanar"]["polygons"] == 6 and c["coplanar"]["mean_sides"] == 4.0
+    assert c["coplanar"]["interior_edges"] == 6          # the six diagonals
+
+
+def test_torus_has_genus_one():
+    # 24 x 12 grid: V = 288, F = 2 * 288 = 576, E = 3 * 288 = 864, chi = 0
+    t = mesh_statistics(silcount.builtin_mesh("torus"))
+    assert (t["vertices"], t["faces"], t["edges"], t["euler_characteristic"], t["genus"]) == (288, 576, 864, 0, 1)
+
+
+def test_two_disjoint_tetrahedra_are_two_components_of_genus_zero():
+    v = np.vstack([TETRA_V, TETRA_V + 10.0])
+    f = np.vstack([TETRA_F, TETRA_F + 4])
+    s = mesh_statistics(from_polygons(v, f))
+    assert (s["components"], s["euler_characteristic"], s["genus"]) == (2, 4, 0)
+
+
+def test_open_plane_counts_its_boundary():
+    # 2 x 14 cells: the perimeter has 2 * (2 + 14) = 32 unit edges
+    s = mesh_statistics(silcount.builtin_mesh("plane"))
+    assert s["boundary_edges"] == 32 and s["closed"] is False and s["genus"] is None
+
+
+# ---- lights --------------------------------------------------------------------------------------
+def test_default_lights_are_sixteen_on_the_three_radius_sphere_and_seeded():
+    mesh = silcount.builtin_mesh("torus")
+    lights = random_lights(mesh)
+    assert len(lights) == 16
+    dist = [np.linalg.norm(np.asarray(l.position) - mesh.centre) for l in lights]
+    assert np.allclose(dist, 3 * mesh.bounding_radius)
+    assert [l.position for l in random_lights(mesh)] == [l.position for l in lights]
+    assert [l.position for l in random_lights(mesh, seed=1)] != [l.position for l in lights]
+
+
+def test_winding_number_inside_outside_and_open():
+    cube = silcount.builtin_mesh("quad_cube")
+    assert winding_number(cube, np.array([0.1, 0.2, 0.3])) == pytest.approx(1.0)
+    assert winding_number(cube, np.array([3.0, 0.0, 0.0])) == pytest.approx(0.0, abs=1e-12)
+    # one face of the tetrahedron removed, seen from its centre: 3 of 4 equal faces = 3/4 of the sphere
+    open_tet = from_polygons(TETRA_V, TETRA_F[:3])
+    assert winding_number(open_tet, np.zeros(3)) == pytest.approx(0.75)
+
+
+# ---- one light, by hand ---------------------------------------------------------------------------
+def test_quad_cube_lit_from_above_has_the_top_square_as_silhouette():
+    # light at (0, 0, 5): only the top face z = 0.5 is light-facing ((L - p0) . n = 4.5 > 0; for a side
+    # face, e.g. x = 0.5 with n = (1,0,0), (L - p0) . n = -0.5 < 0), so the silhouette is the top square.
+    mesh = silcount.builtin_mesh("quad_cube")
+    a = audit(mesh, [PointLight((0, 0, 5))], with_edges=True)
+    top = {((-0.5, -0.5), (-0.5, 0.5)), ((-0.5, -0.5), (0.5, -0.5)), ((-0.5, 0.5), (0.5, 0.5)), ((0.5, -0.5), (0.5, 0.5))}
+    for name in set(EXACT) & set(a["detectors"]):
+        d = a["detectors"][name]
+        assert d["silhouette_edges"] == 4 and d["agrees_with_reference"], name
+        edges = a["per_light"][0]["detectors"][name]["edges"]
+        assert all(p[2] == 0.5 and q[2] == 0.5 for p, q in edges)
+        assert {tuple(sorted((tuple(p[:2]), tuple(q[:2])))) for p, q in edges} == top
+
+
+def test_edges_are_in_the_input_coordinates(tmp_path):
+    # coordinates that are not exact binary fractions must come back bit for bit as parsed from the text
+    text = "\n".join(["v 0.1 0.2 0.3", "v 1.1 -0.7 0.3", "v 0.3 1.3 0.3", "v 0.5 0.5 1.7"]) + "\n"
+    text += "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n"
+    mesh = silcount.load_mesh(write(tmp_path, "t.obj", text))
+    a = audit(mesh, [PointLight((0.4, 0.6, 9.0))], detectors=("reference",), with_edges=True)
+    given = {(0.1, 0.2, 0.3), (1.1, -0.7, 0.3), (0.3, 1.3, 0.3), (0.5, 0.5, 1.7)}
+    edges = a["per_light"][0]["detectors"]["reference"]["edges"]
+    # lit from high above: the three upper faces face the light, the base (z = 0.3) does not: its 3 edges
+    assert len(edges) == 3
+    assert all(tuple(p) in given and tuple(q) in given and p[2] == q[2] == 0.3 for p, q in edges)
+
+
+def test_convex_meshes_agree_with_the_reference_for_every_intended_detector():
+    mesh = silcount.builtin_mesh("icosahedron")
+    a = audit(mesh, random_lights(mesh, 4, seed=3) + [DirectionalLight((0.3, -1, 0.2))])
+    for name, d in a["detectors"].items():
+        assert d["agrees_with_reference"] and d["missed_edges"] == d["extra_edges"] == 0, name
+
+
+# ---- aggregation -----------------------------------------------------------------------------------
+def test_aggregate_is_the_sum_over_lights():
+    mesh = silcount.builtin_mesh("torus")
+    a = audit(mesh, random_lights(mesh, 3, seed=5), variants=("intended", "literal"))
+    assert len(a["per_light"]) == 3 and len(a["lights"]) == 3
+    for key, agg in a["detectors"].items():
+        per = [pl["detectors"][key] for pl in a["per_light"]]
+        assert agg["silhouette_edges"] == sum(p["silhouette_edges"] for p in per)
+        assert agg["agrees_with_reference"] == all(p["agrees_with_reference"] for p in per)
+        for model in ("paper", "true"):
+            for kind in agg["tallies"][model]:
+                assert agg["tallies"][model][kind] == sum(p["tallies"][model].get(kind, 0) for p in per)
+        assert agg["time_s"] == pytest.approx(sum(p["time_s"] for p in per))
+
+
+# ---- cycles and printed formulas ----------------------------------------------------------------
+def test_paper_cycle_weights_are_the_eesd_papers():
+    # EESD 2012 Sec. 6: "Mults 4 cycles, Adds 2 cycles, Compares 3 cycles, Reads 1 cycle and Writes 2 cycles"
+    a = audit(silcount.builtin_mesh("tetrahedron"), [PointLight((0, 0, 5))], detectors=("reference",))
+    d = a["detectors"]["reference"]
+    for model in ("paper", "true"):
+        t = d["tallies"][model]
+        assert d["cycles"][model] == 4 * t["mul"] + 2 * t["add"] + 3 * t["cmp"] + 1 * t["read"] + 2 * t["write"]
+
+
+def test_printed_ta_formula_at_the_quad_cube():
+    # EESD 2012 Sec. 5.1, last line: 6n^2 mC + (6n^2 m + mn + 8n)R + (m+10)nM + 8nA + 2mnW, at n = 6, m = 4
+    n, m = 6, 4
+    expected = {"add": 8 * n, "mul": (m + 10) * n, "cmp": 6 * n * n * m, "read": 6 * n * n * m + m * n + 8 * n,
+                "write": 2 * m * n}
+    if "ta" not in available_detectors():
+        pytest.skip("ta is not installed")
+    a = audit(silcount.builtin_mesh("quad_cube"), [PointLight((0, 0, 5))], detectors=("ta",))
+    f = a["detectors"]["ta"]["formula_printed"]
+    assert (f["n"], f["m"]) == (n, m)
+    assert f["tally"] == expected
+    measured = a["detectors"]["ta"]["tallies"]["paper"]["cmp"]
+    assert f["ratio"]["paper"]["cmp"] == pytest.approx(measured / expected["cmp"])
+
+
+def test_reference_has_no_printed_formula():
+    a = audit(silcount.builtin_mesh("tetrahedron"), [PointLight((0, 0, 5))], detectors=("reference",))
+    assert a["detectors"]["reference"]["formula_printed"] is None
+
+
+# ---- the JSON schema -----------------------------------------------------------------------------
+def test_json_schema_keys():
+    a = audit(silcount.builtin_mesh("quad_cube"), random_lights(silcount.builtin_mesh("quad_cube"), 2))
+    doc = json.loads(render(a, "json"))
+    assert {"silcount_version", "schema", "mesh", "lights", "warnings", "detectors", "per_light"} <= set(doc)
+    assert doc["silcount_version"] == silcount.__version__
+    for name, d in doc["detectors"].items():
+        assert {"silhouette_edges", "agrees_with_reference", "tallies", "steps", "cycles", "formula_printed",
+                "time_s"} <= set(d), name
+        for model in ("paper", "true"):
+            assert set(KINDS) <= set(d["tallies"][model])
+    assert len(doc["per_light"]) == 2 and set(doc["per_light"][0]["detectors"]) == set(doc["detectors"])
+
+
+# ---- progress ------------------------------------------------------------------------------------
+def test_progress_is_silent_unless_enabled_and_slow(monkeypatch):
+    quiet = io.StringIO()
+    with Progress(3, "x", enabled=False, stream=quiet) as bar:
+        bar.advance()
+    assert quiet.getvalue() == ""
+    fast = io.StringIO()
+    with Progress(3, "x", enabled=True, stream=fast) as bar:   # quicker than the one-second delay
+        bar.advance()
+    assert fast.getvalue() == ""
+    monkeypatch.setattr("silcount.progress.DELAY_S", 0.0)
+    slow = io.StringIO()
+    with Progress(2, "audit", enabled=True, stream=slow) as bar:
+        bar.advance()
+    assert "audit [" in slow.getvalue() and "1/2" in slow.getvalue() and slow.getvalue().endswith("\r")
+    assert Progress(1, "x", stream=io.StringIO()).enabled is False   # not a terminal: off
+
+
+# ---- the committed reports -------------------------------------------------------------------------
+SMALL = ("tetrahedron", "quad_cube")
+
+
+def test_report_audits_are_deterministic_and_match_the_committed_ones(tmp_path, monkeypatch):
+    monkeypatch.setattr(report_cmd, "REPORT_MESHES", SMALL)
+    first = report_cmd.report(tmp_path / "a")
+    second = report_cmd.report(tmp_path / "b")
+    assert [p.read_bytes() for p in first] == [p.read_bytes() for p in second]
+    for p in first:
+        committed = REPO / "reports" / "audit" / p.name
+        assert committed.exists(), f"{committed} is not committed"
+        assert committed.read_text() == p.read_text(), f"{committed} differs from what silcount report writes"
