@@ -50,7 +50,13 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def _part(name: str):
-    module = importlib.import_module(f".{name}", __package__)
+    """The part's ``report`` function, or ``None`` while its command module or function does not exist."""
+    try:
+        module = importlib.import_module(f".{name}", __package__)
+    except ModuleNotFoundError as exc:
+        if exc.name != f"{__package__}.{name}":
+            raise
+        return None
     return getattr(module, "report", None)
 
 
