@@ -1,0 +1,222 @@
+"""Benchmark the detectors on a ~1.1M-face mesh and print the figures (issue 3, Performance).
+
+    SILCOUNT_MESH_DIR=/path/to/shared/data python scripts/bench_detectors.py [--rounds 3] [--timeout 300]
+
+1. The mesh: the shared bunny (16,301 faces) with ``--rounds`` rounds of 1-to-4
+   midpoint subdivision (``trimesh.remesh.subdivide``; 3 rounds: 1,043,264 faces).
+2. ``reference`` per-light query after precompute, next to a plain numpy
+   baseline written here and the memory-bandwidth floor: the bytes the query
+   must read (each face's ``p0`` and normal, 48 B; each two-sided edge's two
+   face ids as int32, 8 B) over the read bandwidth measured in the same run
+   (the best of several ``np.sum`` and ``np.max`` over a 256 MiB array).
+3. ``fast`` tallies of every available detector and variant on that mesh
+   (both cost models come from one run): wall time of the first call (with
+   the detector's per-mesh precompute) and of a second light, and the peak
+   resident memory of a fresh process that loads the mesh and runs it.
+4. ``naive`` vs ``fast`` at ~2,000 faces (a 40 x 25 torus) for every
+   available detector and variant.
+
+Timings on a shared 2-core machine are noisy: read the ratios, not the digits.
+"""
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import os
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+import silcount
+from silcount.detectors import DETECTORS
+from silcount.detectors import reference as ref_module
+
+
+def build_mesh(rounds: int) -> silcount.Mesh:
+    base = Path(os.environ["SILCOUNT_MESH_DIR"]) / "bunny.ply"
+    m = silcount.load_mesh(base)
+    v, f = m.vertices, m.faces
+    for _ in range(rounds):
+        v, f = trimesh.remesh.subdivide(v, f)
+    return silcount.from_polygons(v, f, name=f"bunny_sub{rounds}")
+
+
+def lights(mesh: silcount.Mesh, k: int, seed: int = 1):
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(k):
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        out.append(silcount.DirectionalLight(d) if i % 2 else silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d))
+    return out
+
+
+def best_time(fn, repeat: int) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def read_bandwidth() -> float:
+    """Bytes per second of the faster of ``np.sum`` and ``np.max`` over 256 MiB (larger than any cache here)."""
+    a = np.ones(256 * 2**20 // 8)
+    a.sum()
+    return a.nbytes / min(best_time(a.sum, 7), best_time(a.max, 7))
+
+
+def numpy_baseline(mesh: silcount.Mesh):
+    """A plain numpy reference query: facing values by einsum, then one comparison per two-sided edge."""
+    p0, nrm = mesh.face_p0, mesh.face_normals
+    pairs = mesh.side_face[mesh.manifold_sides[mesh.edge_valence == 2]]
+    f1, f2 = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
+
+    def query(light):
+        if light.is_directional:
+            val = nrm @ np.asarray(light.direction)
+        else:
+            val = np.einsum("ij,ij->i", np.asarray(light.position) - p0, nrm)
+        flags = val > 0
+        return np.flatnonzero(flags[f1] != flags[f2])
+
+    return query
+
+
+def section_reference(mesh: silcount.Mesh) -> None:
+    print("\n== reference per-light query (after precompute) ==")
+    ls = lights(mesh, 8)
+    t = time.perf_counter()
+    ref_module.silhouette_edge_ids(mesh, ls[0])
+    print(f"precompute + first query: {time.perf_counter() - t:.3f} s")
+    F, E2 = mesh.n_faces, int(np.count_nonzero(mesh.edge_valence == 2))
+    need = 48 * F + 8 * E2
+    bw = read_bandwidth()
+    floor = need / bw
+    q_core = min(best_time(lambda L=L: ref_module.silhouette_edge_ids(mesh, L), 3) for L in ls)
+    q_full = min(best_time(lambda L=L: silcount.detect(mesh, L, "reference"), 2) for L in ls[:3])
+    base = numpy_baseline(mesh)
+    q_np = min(best_time(lambda L=L: base(L), 3) for L in ls)
+    print(f"bytes the query must read: {need / 2**20:.1f} MiB (48 B x {F} faces + 8 B x {E2} two-sided edges)")
+    print(f"read bandwidth (np.sum/np.max over 256 MiB): {bw / 2**30:.2f} GiB/s -> floor {floor * 1e3:.2f} ms")
+    print(f"reference query (facing + edge ids):  {q_core * 1e3:8.2f} ms  = {q_core / floor:5.2f} x floor")
+    print(f"numpy baseline (einsum + pairs):      {q_np * 1e3:8.2f} ms  = {q_np / floor:5.2f} x floor")
+    print(f"reference detect() with tallies and oriented edges: {q_full * 1e3:8.2f} ms = {q_full / floor:5.2f} x floor")
+
+
+def _child_fast(mesh, name, variant, out):
+    try:
+        ls = lights(mesh, 2, seed=5)
+        t = time.perf_counter()
+        r = silcount.detect(mesh, ls[0], name, variant, "fast")
+        t1 = time.perf_counter() - t
+        t = time.perf_counter()
+        silcount.detect(mesh, ls[1], name, variant, "fast")
+        t2 = time.perf_counter() - t
+        maxrss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+        out.put(("ok", t1, t2, maxrss, r.n_edges, r.tally, r.notes.get("disagreement_with_reference")))
+    except Exception as exc:  # reported, not hidden
+        out.put(("error", f"{type(exc).__name__}: {exc}"))
+
+
+def run_child(target, args, timeout: float):
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+    p = ctx.Process(target=target, args=(*args, q))
+    p.start()
+    p.join(timeout)
+    if p.is_alive():
+        p.terminate()
+        p.join()
+        return ("timeout",)
+    return q.get() if not q.empty() else ("error", f"exit code {p.exitcode}")
+
+
+def available() -> list[str]:
+    names = []
+    for name in DETECTORS:
+        try:
+            __import__(f"silcount.detectors.{name}")
+            names.append(name)
+        except ImportError:
+            print(f"{name}: not available")
+    return names
+
+
+def section_fast(mesh: silcount.Mesh, names: list[str], timeout: float) -> None:
+    print(f"\n== fast tallies on {mesh.n_faces:,} faces (fresh forked process per run; timeout {timeout:.0f} s) ==")
+    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    print(f"parent peak RSS with the mesh loaded: {rss0 / 2**30:.2f} GiB; each child shares the parent's pages and"
+          " reports its own peak RSS (the pages it touched): the total is at most the sum")
+    for name in names:
+        for variant in ("intended", "literal") if name != "reference" else ("intended",):
+            res = run_child(_child_fast, (mesh, name, variant), timeout)
+            if res[0] == "ok":
+                _, t1, t2, rss, k, tally, dis = res
+                print(f"{name:9s} {variant:8s} first {t1:7.2f} s  next light {t2:7.2f} s  peak RSS {rss / 2**30:5.2f} GiB"
+                      f"  edges {k:7d}  vs reference {dis}")
+                print(f"{'':18s} paper {tally['paper']}")
+                print(f"{'':18s} true  {tally['true']}")
+            else:
+                print(f"{name:9s} {variant:8s} {' '.join(map(str, res))}")
+
+
+def _child_naive(mesh, name, variant, out):
+    try:
+        L = silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * np.array([0.3, 0.5, 0.8]))
+        t = time.perf_counter()
+        a = silcount.detect(mesh, L, name, variant, "naive")
+        tn = time.perf_counter() - t
+        silcount.detect(mesh, L, name, variant, "fast")
+        tf = best_time(lambda: silcount.detect(mesh, L, name, variant, "fast"), 3)
+        b = silcount.detect(mesh, L, name, variant, "fast")
+        same = a.tally == b.tally and a.steps == b.steps and np.array_equal(a.edges, b.edges)
+        out.put(("ok", tn, tf, same))
+    except Exception as exc:
+        out.put(("error", f"{type(exc).__name__}: {exc}"))
+
+
+def section_naive(names: list[str], timeout: float) -> None:
+    mesh = silcount.shapes.torus(1.0, 0.35, 40, 25)
+    print(f"\n== naive vs fast on a torus of {mesh.n_faces} faces (timeout {timeout:.0f} s per naive run) ==")
+    for name in names:
+        for variant in ("intended", "literal") if name != "reference" else ("intended",):
+            res = run_child(_child_naive, (mesh, name, variant), timeout)
+            if res[0] == "ok":
+                _, tn, tf, same = res
+                print(f"{name:9s} {variant:8s} naive {tn:8.2f} s  fast {tf * 1e3:8.2f} ms  speed-up {tn / tf:10.0f} x"
+                      f"  identical {same}")
+            elif res[0] == "timeout":
+                print(f"{name:9s} {variant:8s} naive > {timeout:.0f} s (timed out)")
+            else:
+                print(f"{name:9s} {variant:8s} {' '.join(map(str, res))}")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=3, help="1-to-4 subdivision rounds of the bunny (default 3)")
+    ap.add_argument("--timeout", type=float, default=300.0, help="seconds per fast run in a child process")
+    ap.add_argument("--naive-timeout", type=float, default=120.0, help="seconds per naive run")
+    args = ap.parse_args(argv)
+    if "SILCOUNT_MESH_DIR" not in os.environ:
+        print("set SILCOUNT_MESH_DIR to the directory holding bunny.ply", file=sys.stderr)
+        return 2
+    t = time.perf_counter()
+    mesh = build_mesh(args.rounds)
+    mesh.edges, mesh.edge_sides, mesh.manifold_sides, mesh.face_normals, mesh.face_p0  # shared by the children
+    print(f"mesh: bunny.ply + {args.rounds} rounds of 1-to-4 midpoint subdivision: V={mesh.n_vertices:,} "
+          f"F={mesh.n_faces:,} E={mesh.n_edges:,} (built in {time.perf_counter() - t:.1f} s)")
+    names = available()
+    section_reference(mesh)
+    section_fast(mesh, names, args.timeout)
+    section_naive(names, args.naive_timeout)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
