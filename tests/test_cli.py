@@ -123,3 +123,11 @@ def test_report_skips_a_part_that_has_no_report_function(tmp_path, monkeypatch):
     monkeypatch.setattr(report_cmd, "PARTS", ("not_written_yet",))
     rc, out, err = run_cli("report", "--out", str(tmp_path))
     assert rc == 0 and "skipped not_written_yet" in err and "audit: wrote 0 files" in out
+
+
+def test_negative_light_coordinates_need_no_equals_sign(tetra):
+    rc, out, err = run_cli("audit", str(tetra), "--light", "-1,-2,5", "--directional", "-.5,0,1", "--format", "json",
+                           "--detectors", "reference")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["lights"][0]["position"] == [-1.0, -2.0, 5.0] and doc["lights"][1]["direction"] == [-0.5, 0.0, 1.0]

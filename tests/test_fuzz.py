@@ -78,8 +78,11 @@ def test_cli_never_shows_a_traceback(fmt, data, light):
     with tempfile.TemporaryDirectory() as d, redirect_stdout(out), redirect_stderr(err_buf):
         p = Path(d) / f"fuzz{EXT[fmt]}"
         p.write_bytes(blob)
-        rc = main(["audit", str(p), "--light", light, "--random-lights", "1", "--detectors", "reference",
-                   "--format", "json", "--max-memory", "256M", "--quiet"])
+        try:
+            rc = main(["audit", str(p), "--light", light, "--random-lights", "1", "--detectors", "reference",
+                       "--format", "json", "--max-memory", "256M", "--quiet"])
+        except SystemExit as exc:   # argparse's own one-line usage errors (e.g. "--light -E")
+            rc = exc.code
     err = err_buf.getvalue()
     assert rc in (0, 2, 3, 4)
     assert (rc == 0) == (err == ""), err

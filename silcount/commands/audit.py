@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import re
 import sys
 from pathlib import Path
 
@@ -35,6 +36,8 @@ def available_detectors() -> tuple[str, ...]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    # let "--light -1,2,3" read as a value, as argparse already does for "-1" and "-.5"
+    parser._negative_number_matcher = re.compile(r"^-[\d.]")
     parser.add_argument("mesh", nargs="?", metavar="MESH",
                         help="OBJ, OFF, PLY, STL, GLB or GLTF file; omitted: audit every built-in mesh")
     parser.add_argument("--light", action="append", default=[], metavar="X,Y,Z", help="a point light (repeatable)")
