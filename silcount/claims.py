@@ -290,7 +290,7 @@ def _check_complexity(c: dict) -> tuple[str, str, str, str]:
         "icosphere sweep, fitted exponent (fast engine, one point light)")
 
 
-def _check_cycle_ratio(c: dict) -> tuple[str, str, str, str]:
+def _check_cycle_ratio(c: dict, profiles: dict[str, Profile]) -> tuple[str, str, str, str]:
     weights = {k: float(v) for k, v in models.load(c["weights"])["cycle_weights"].items() if k in KINDS}
     faces, target, tol = c["faces"], c["ratio"], c["tolerance"]
     res = {}
@@ -306,8 +306,15 @@ def _check_cycle_ratio(c: dict) -> tuple[str, str, str, str]:
     def show(which):
         limit, at, m_solve = res[which]
         return (f"ratio -> {sp.sstr(limit)} as n grows; at n = {faces}: " + ", ".join(f"m={mv}: {r:.3f}" for mv, r in at.items())
-                + (f"; equals {target} only at m = {', '.join(sp.sstr(x) for x in m_solve)}" if m_solve else ""))
-    return show("rederived"), "", verdict, f"paper weights; {c['tolerance_note']} The paper's own forms: {show('printed')}"
+                + (f"; equals {target} only at m = {', '.join(sp.sstr(x) + (' (no mesh: m >= 3)' if x < 3 else '') for x in m_solve)}"
+                   if m_solve else ""))
+    per_profile = ", ".join(
+        f"{name}: " + ", ".join(
+            f"m={mv}: {float((_cycles(c['numerator'], 'rederived', p.weights) / _cycles(c['denominator'], 'rederived', p.weights)).subs({F.n: faces, F.m: mv})):.2f}"
+            for mv in c["m_values"])
+        for name, p in profiles.items())
+    return show("rederived"), "", verdict, (f"paper weights; {c['tolerance_note']} The paper's own forms: {show('printed')}. "
+                                            f"Re-derived ratio at n = {faces} per profile: {per_profile}")
 
 
 def _check_equal_kinds(c: dict) -> tuple[str, str, str, str]:
@@ -406,10 +413,10 @@ def all_claims(extra_profile: Profile | None = None, real: bool | None = None) -
     rows = table_cell_claims() + closed_form_claims()
     checks = {
         "kernel_cost": _check_kernel_cost, "mesh_size": lambda c: _check_mesh_size(c, real), "table_point": _check_table_point,
-        "complexity": _check_complexity, "cycle_ratio": _check_cycle_ratio, "equal_kinds": _check_equal_kinds,
+        "complexity": _check_complexity, "equal_kinds": _check_equal_kinds,
         "loop_bound": _check_loop_bound, "fps_consistency": _check_fps_consistency, "projection": _check_projection,
     }
-    with_profiles = {"fewest_asymptotic": _check_fewest_asymptotic, "fewest_at_points": _check_fewest_at_points,
+    with_profiles = {"cycle_ratio": _check_cycle_ratio, "fewest_asymptotic": _check_fewest_asymptotic, "fewest_at_points": _check_fewest_at_points,
                      "fps_vs_cycles": _check_fps_vs_cycles}
     for paper_file in PAPER_FILES:
         data = models.load(paper_file)
