@@ -1,0 +1,44 @@
+"""zeros_per_point against every point-plane pair evaluated with numpy."""
+import numpy as np
+
+from silcount.onplane import zeros_per_point
+
+
+def brute_force(points, planes):
+    a, b, c, d = (planes[:, k][None, :] for k in range(4))
+    x, y, z = (points[:, k][:, None] for k in range(3))
+    return np.count_nonzero(((a * x + b * y) + c * z) + d == 0.0, axis=1)
+
+
+def test_grid_points_on_axis_planes_and_random_planes():
+    # Points of a 9x9x9 grid with spacing 1/4 (exact in binary) lie exactly on the planes
+    # x, y or z = k/4 (some scaled by 3: 3x - 3k/4 = 0 is still exact); random planes hold none.
+    rng = np.random.default_rng(0)
+    g = np.arange(-4, 5) / 4.0
+    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    pts = np.concatenate([pts, rng.normal(size=(500, 3)), [[np.nan, 0.0, 0.0]]])
+    axis = []
+    for k in range(3):
+        for off in (-1.0, -0.25, 0.5, 0.75):
+            n = np.zeros(3)
+            n[k] = 3.0
+            axis.append([*n, -3.0 * off])
+    planes = np.concatenate([np.array(axis), rng.normal(size=(300, 4))])
+    got = zeros_per_point(pts, planes)
+    expected = brute_force(pts, planes)
+    assert np.array_equal(got, expected)
+    assert expected.sum() >= 12 * 81                       # every axis plane holds a 9x9 layer
+    assert got[-1] == 0
+
+
+def test_random_points_near_one_plane():
+    # Points sampled on the plane x + 2y - z = 0.5 with dyadic coordinates land on it exactly; their
+    # neighbours 1e-12 away do not.  Brute force decides which ones the float test calls zero.
+    rng = np.random.default_rng(1)
+    xy = rng.integers(-64, 64, size=(2000, 2)) / 32.0
+    on = np.column_stack([xy, xy[:, 0] + 2 * xy[:, 1] - 0.5])
+    pts = np.concatenate([on, on + 1e-12 * rng.normal(size=on.shape)])
+    planes = np.array([[1.0, 2.0, -1.0, -0.5], [2.0, 4.0, -2.0, -1.0], [1.0, 2.0, -1.0, -0.25]])
+    got = zeros_per_point(pts, planes)
+    assert np.array_equal(got, brute_force(pts, planes))
+    assert got[:2000].min() == 2 and got[2000:].max() < 2
