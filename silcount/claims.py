@@ -86,6 +86,14 @@ def digit_slip(printed: int, value: int) -> str:
     return ""
 
 
+def _why(model: str, kind: str) -> str:
+    """Which findings move this kind: expansion slips and steps charged other than they run."""
+    causes = [f"the printed expansion changes it by {sp.sstr(d[kind])}" for *_, d in F.expansion_steps(model) if kind in d]
+    causes += [f"'{d.line}' runs {sp.sstr(d.derived_runs)} times, charged {sp.sstr(d.printed_runs)}"
+               for d in F.rederivation_differences(model) if kind in d.kinds]
+    return f" ({'; '.join(causes)})" if causes else ""
+
+
 def table_cell_claims() -> list[dict]:
     from .tables import _measured
 
@@ -112,7 +120,8 @@ def table_cell_claims() -> list[dict]:
                     else:
                         notes.append("equals the paper's own closed form")
                     if rd != cell:
-                        notes.append(f"the re-derivation from the per-line costs gives {_num(rd)}")
+                        notes.append(f"the re-derivation from the per-line costs gives {_num(rd)}"
+                                     + _why(row["model"], kind))
                     out.append(dict(
                         key=f"{table['id']} {row['algorithm']} {kind}", paper=data["paper"], section=table["section"],
                         statement=f"{table['id']} ({table['caption']}): {row['label']}, {kind}",
