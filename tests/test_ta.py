@@ -169,3 +169,32 @@ def test_inconsistent_winding_leaves_a_duplicate():
     res = silcount.detect(m, silcount.DirectionalLight((0, 0, 1)), "ta")
     assert res.n_edges == 5 and res.notes["duplicates_in_S"] == 1
     assert res.notes["extra_edges"] == 1 and res.notes["missed_edges"] == 0
+
+
+@settings(max_examples=200, deadline=None)
+@given(n_keys=st.integers(2, 12), data=st.data())
+def test_replay_matches_a_plain_list(n_keys, data):
+    # The Fenwick replay against S as a Python list searched from the front, on arbitrary key
+    # sequences (duplicates, any initial content): same final S, same search and shift counts.
+    from silcount.detectors.edge_array import replay
+
+    sizes = data.draw(st.lists(st.integers(0, 5), min_size=1, max_size=12))
+    start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    keys = np.array(data.draw(st.lists(st.integers(0, n_keys - 1), min_size=int(start[-1]), max_size=int(start[-1]))),
+                    dtype=np.int64)
+    facing = np.array(data.draw(st.lists(st.booleans(), min_size=len(sizes), max_size=len(sizes))))
+    initial = np.array(data.draw(st.lists(st.integers(0, n_keys - 1), max_size=20)), dtype=np.int64)
+    S, examined, shifted = list(initial), 0, 0
+    for p in np.flatnonzero(facing):
+        for k in keys[start[p]:start[p + 1]]:
+            rev = k ^ 1
+            if rev in S:
+                pos = S.index(rev)
+                examined += pos + 1
+                shifted += len(S) - pos - 1
+                del S[pos]
+            else:
+                examined += len(S)
+                S.append(k)
+    r = replay(start, keys, facing, n_keys + (n_keys % 2), initial)
+    assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted

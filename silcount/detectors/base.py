@@ -130,6 +130,17 @@ def oriented_edges(mesh: Mesh, edge_ids: np.ndarray, is_facing: np.ndarray) -> n
     return out
 
 
+def unique_ids(ids) -> np.ndarray:
+    """Sorted distinct int64 ids; by sorting (numpy 2.4's hash-based ``np.unique`` is ~20x slower on 1M ids)."""
+    s = np.sort(np.asarray(ids, dtype=np.int64).reshape(-1))
+    if s.size == 0:
+        return s
+    keep = np.empty(s.size, dtype=bool)
+    keep[0] = True
+    np.not_equal(s[1:], s[:-1], out=keep[1:])
+    return s[keep]
+
+
 def make_silhouette(
     mesh: Mesh,
     light: Light,
@@ -145,7 +156,7 @@ def make_silhouette(
     notes: dict[str, Any] | None = None,
 ) -> Silhouette:
     """Assemble a :class:`Silhouette`: sorted unique edges, orientation, both cost models."""
-    ids = np.unique(np.asarray(edge_ids, dtype=np.int64))
+    ids = unique_ids(edge_ids)
     notes = dict(notes or {})
     if detector != "reference":
         notes.update(compare_with_reference(mesh, light, ids))
@@ -186,5 +197,5 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 __all__ = [
     "Silhouette", "facing", "MeshMemory", "counted_visibility", "visibility_true_cost",
-    "add_scaled", "oriented_edges", "make_silhouette", "VARIANTS", "ENGINES", "Num", "plain",
+    "add_scaled", "oriented_edges", "make_silhouette", "unique_ids", "VARIANTS", "ENGINES", "Num", "plain",
 ]

@@ -90,11 +90,12 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
     nxt = np.full(n_slots, -1, dtype=np.int64)          # next live slot with the same key
     head = np.full(n_keys, -1, dtype=np.int64)
     tail = np.full(n_keys, -1, dtype=np.int64)
-    for s in range(n_init):                            # O(n) Fenwick build over initial ones
-        tree[s + 1] += 1
-        parent = (s + 1) + ((s + 1) & -(s + 1))
+    tree[1:n_init + 1] = 1                             # O(n) Fenwick build over the initial ones
+    for i in range(1, n_slots + 1):
+        parent = i + (i & -i)
         if parent <= n_slots:
-            tree[parent] += tree[s + 1]
+            tree[parent] += tree[i]
+    for s in range(n_init):
         k = initial[s]
         slot_key[s] = k
         alive[s] = True

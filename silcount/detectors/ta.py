@@ -58,7 +58,8 @@ import numpy as np
 from ..counting import Memory, OpCounter, plain
 from ..lights import Light
 from ..mesh import Mesh
-from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, visibility_true_cost
+from .base import (MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, unique_ids,
+                   visibility_true_cost)
 from .edge_array import CountedEdgeArray, directed_keys, first_orientation, keys_to_directed, replay
 from .reference import facing_flags
 
@@ -148,7 +149,7 @@ def finish(mesh: Mesh, light: Light, detector: str, variant: str, engine: str, i
            pairs: np.ndarray, steps: dict, true: dict, ties: int, flags: np.ndarray,
            paper_params: dict | None = None, notes: dict | None = None) -> Silhouette:
     """The :class:`Silhouette` of what S holds: unique edges, front-most copy's direction, duplicates noted."""
-    unique = np.unique(ids)
+    unique = unique_ids(ids)
     notes = dict(notes or {})
     notes["S_length"] = int(ids.size)
     notes["duplicates_in_S"] = int(ids.size - unique.size)
