@@ -47,7 +47,7 @@ def _kinds(entries: list[dict], model: str) -> list[str]:
 
 def _detector_table(detectors: dict, model: str, markdown: bool) -> list[str]:
     kinds = _kinds(list(detectors.values()), model)
-    header = ["detector", "edges", "agrees", *kinds, "cycles", "printed cycles", "ratio", "time s"]
+    header = ["detector", "edges", "agrees", *kinds, "cycles", "printed cycles", "measured/printed", "time s"]
     rows = []
     for key, d in detectors.items():
         printed = d["formula_printed"]
