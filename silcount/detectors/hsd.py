@@ -16,9 +16,10 @@ Variants
 --------
 ``intended``
     the ``tight`` merge: exactly coplanar faces with the same orientation
-    (criterion in :mod:`silcount.coplanar`); the result equals the
-    reference's on closed meshes and on open ones alike, since merged faces
-    always share their facing sign.
+    (criterion in :mod:`silcount.coplanar`).  Merged faces always share
+    their facing sign, so no reference silhouette edge lies inside a polygon
+    and the result is TA's on the unmerged mesh: the reference's wherever
+    TA's is (closed or open, manifold, consistently wound meshes).
 ``literal``
     the paper's "same normal vectors" read loosely, as ``trimesh`` facets
     (an angle tolerance): real silhouette edges can fall inside a polygon and
