@@ -18,8 +18,8 @@ Variants
     the ``tight`` merge: exactly coplanar faces with the same orientation
     (criterion in :mod:`silcount.coplanar`).  Merged faces always share
     their facing sign, so no reference silhouette edge lies inside a polygon
-    and the result is TA's on the unmerged mesh: the reference's wherever
-    TA's is (closed or open, manifold, consistently wound meshes).
+    and the result has the reference's edges wherever TA's has (closed or
+    open, manifold, consistently wound meshes).
 ``literal``
     the paper's "same normal vectors" read loosely, as ``trimesh`` facets
     (an angle tolerance): real silhouette edges can fall inside a polygon and
