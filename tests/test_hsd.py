@@ -69,14 +69,37 @@ def test_triangle_cube_by_hand():
         assert res.tally["paper"] == {"add": 48, "mul": 64, "cmp": 6 + 48, "read": 48 + 48 + 4, "write": 12}
 
 
-def test_quad_cube_nothing_to_merge():
-    # perpendicular quads: no merge, so HSD is TA plus one representative read per polygon
+def test_quad_cube_by_hand():
+    # Perpendicular quads: nothing merges (6 polygons = the 6 faces, e_n = 12, m = 4).  Light
+    # (0,0,10): only the top quad [1,5,7,3] faces it; searches of length 0, 1, 2, 3, all absent.
     m = silcount.builtin_mesh("quad_cube")
     light = silcount.PointLight((0.0, 0.0, 10.0))
-    ta = silcount.detect(m, light, "ta", engine="naive")
-    hsd = silcount.detect(m, light, "hsd", engine="naive")
-    assert hsd.notes["merge"]["polygons"] == 6 and hsd.steps == ta.steps
-    assert hsd.tally["true"] == {**ta.tally["true"], "read": ta.tally["true"]["read"] + 6}
+    for engine in ("naive", "fast"):
+        res = silcount.detect(m, light, "hsd", engine=engine)
+        assert res.notes["merge"]["polygons"] == 6 and res.notes["merge"]["interior_edges"] == 0
+        assert res.steps == {"visibility": 6, "search_S": 4, "delete": 0, "add": 4, "shift": 0}
+        # true: 6 x (1 R + VIS_POINT); 2 R; 4 sides (8 R, 4 M, 4 A); 6 examined (6 R, 6 C); 4 adds (4 M, 8 A, 4 W)
+        assert res.tally["true"] == {"read": 6 + 96 + 2 + 8 + 6, "add": 84 + 4 + 8, "mul": 54 + 4 + 4,
+                                     "cmp": 6 + 6, "write": 4}
+        # paper (HSD 6.3, f_n = 6, e_n = 12): 6 x (8A 10M 1C 8R); 4 x (12C 12R 1M); 4 adds x (1R 3W)
+        assert res.tally["paper"] == {"add": 48, "mul": 64, "cmp": 54, "read": 100, "write": 12}
+
+
+def test_tetrahedron_by_hand():
+    # Nothing merges; the run is TA's (see test_ta.test_tetrahedron_by_hand): 9 searches examining
+    # 18 elements, 3 deletes shifting 8, 6 adds; plus one representative read per polygon (4 R).
+    m = silcount.builtin_mesh("tetrahedron")
+    light = silcount.PointLight((5.0, 5.0, 5.0))
+    for engine in ("naive", "fast"):
+        res = silcount.detect(m, light, "hsd", engine=engine)
+        assert res.edges.tolist() == [[0, 1], [0, 2], [1, 2]]
+        assert res.steps == {"visibility": 4, "search_S": 9, "delete": 3, "add": 6, "shift": 8}
+        assert res.tally["true"] == {"read": 4 + 64 + 6 + 18 + 18 + 8, "add": 56 + 9 + 3 + 12,
+                                     "mul": 36 + 9 + 6, "cmp": 4 + 18, "write": 8 + 6}
+        # paper (hsd2011-hsd, f_n = 4, e_n = 6): 4 x (8A 10M 1C 8R); 9 x (6C 6R 1M); 3 deletes x
+        # (1R 2W); 6 adds x (1R 3W), the HSD paper's add annotation "1 write+1 read+2 write"
+        assert res.tally["paper"] == {"add": 32, "mul": 40 + 9, "cmp": 4 + 54, "read": 32 + 54 + 3 + 6,
+                                      "write": 6 + 18}
 
 
 def test_paper_worst_case_reproduces_printed_sum():
