@@ -55,7 +55,7 @@ def mutated(draw, fmt: str) -> bytes:
     return bytes(data)
 
 
-@pytest.mark.parametrize("ext", sorted(set(EXT.values())))
+@pytest.mark.parametrize("ext", sorted(set(EXT.values()) | {".glb", ".gltf"}))
 @FUZZ
 @given(data=st.binary(max_size=400))
 def test_random_bytes_never_crash_the_loader(ext, data):
