@@ -73,9 +73,9 @@ def winding_number(mesh: Mesh, point) -> float:
     1 inside and 0 outside a closed outward-wound mesh; fractional on open
     ones.  Van Oosterom & Strackee's solid angle, summed over triangles.
     """
-    first = np.repeat(mesh.face_start[:-1], mesh.face_sizes - 2)
-    offs = np.concatenate([np.arange(1, k - 1) for k in mesh.face_sizes]) if not mesh.is_triangle_mesh \
-        else np.tile([1], mesh.n_faces)
+    fan = mesh.face_sizes - 2                                   # triangles per polygon
+    first = np.repeat(mesh.face_start[:-1], fan)
+    offs = np.arange(fan.sum()) - np.repeat(np.cumsum(fan) - fan, fan) + 1
     a = mesh.vertices[mesh.corners[first]] - point
     b = mesh.vertices[mesh.corners[first + offs]] - point
     c = mesh.vertices[mesh.corners[first + offs + 1]] - point
