@@ -101,6 +101,14 @@ def _refuse_if_too_large(path: Path, n_vertices: int, n_faces: int, max_memory: 
         )
 
 
+def _refuse_if_short(path: Path, fmt: str, nv: int, nf: int, size: int) -> None:
+    """A text header whose counts cannot fit in the file (a vertex takes at least 6 bytes, "0 0 0\\n",
+    a triangle 8, "3 0 1 2\\n") is corrupt or truncated, not a large mesh."""
+    if 6 * nv + 8 * nf > size:
+        raise UnreadableInput(f"{path}: corrupt or truncated {fmt}: the header promises {nv} vertices and "
+                              f"{nf} faces, more than a {size}-byte file can hold")
+
+
 # ---- OBJ ---------------------------------------------------------------------------------
 def _text(data: bytes, path: Path, fmt: str) -> str:
     if b"\x00" in data:
@@ -283,7 +291,9 @@ def _ply_header(path: Path, size: int) -> tuple[int, int]:
     if any(n < 0 for n in counts.values()):
         raise UnreadableInput(f"{path}: corrupt PLY header: a negative element count")
     nv, nf = counts.get("vertex", 0), counts.get("face", 0)
-    if fmt != "ascii":
+    if fmt == "ascii":
+        _refuse_if_short(path, "PLY", nv, nf, size)
+    else:
         minimum = 0
         for _, n, props in elements:
             per = 0
@@ -353,6 +363,7 @@ def _size_estimate(path: Path, ext: str, size: int) -> tuple[int, int]:
             _, nv, nf = _off_header(head)
         except (ValueError, IndexError, OverflowError) as exc:
             raise UnreadableInput(f"{path}: corrupt OFF: {exc}") from None
+        _refuse_if_short(path, "OFF", nv, nf, size)
         return nv, nf
     return size // 12, size // 12  # glb/gltf: at least 12 bytes per indexed triangle
 

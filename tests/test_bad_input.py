@@ -167,9 +167,22 @@ def test_too_large_binary_stl_refused_from_its_header_alone(tmp_path):
 
 
 def test_too_large_ply_refused_from_its_header(tmp_path):
-    head = b"ply\nformat ascii 1.0\nelement vertex 50000000\nproperty float x\nproperty float y\nproperty float z\n" \
-           b"element face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n"
-    assert_refused(write(tmp_path, "huge.ply", head), 4, "too large", "100000000 faces", extra=("--max-memory", "4G"))
+    head = b"ply\nformat binary_little_endian 1.0\nelement vertex 500000\nproperty float x\nproperty float y\n" \
+           b"property float z\nelement face 1000000\nproperty list uchar int vertex_indices\nend_header\n"
+    p = tmp_path / "huge.ply"
+    with open(p, "wb") as fh:          # a sparse file exactly as long as the header's counts need
+        fh.write(head)
+        fh.truncate(len(head) + 500000 * 12 + 1000000 * 13)
+    assert_refused(p, 4, "too large", "1000000 faces", extra=("--max-memory", "100M"))
+
+
+@pytest.mark.parametrize("name,data", [
+    ("lying.off", "OFF\n999999999 1 0\n0 0 0\n"),
+    ("lying.ply", b"ply\nformat ascii 1.0\nelement vertex 50000000\nproperty float x\nproperty float y\n"
+                  b"property float z\nelement face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n"),
+])
+def test_header_counts_that_cannot_fit_in_the_file_are_corrupt_not_large(tmp_path, name, data):
+    assert_refused(write(tmp_path, name, data), 3, "more than a")
 
 
 # ---- bad arguments: exit 2 ---------------------------------------------------------------
