@@ -155,8 +155,6 @@ def test_printed_ta_formula_at_the_quad_cube():
     n, m = 6, 4
     expected = {"add": 8 * n, "mul": (m + 10) * n, "cmp": 6 * n * n * m, "read": 6 * n * n * m + m * n + 8 * n,
                 "write": 2 * m * n}
-    if "ta" not in available_detectors():
-        pytest.skip("ta is not installed")
     a = audit(silcount.builtin_mesh("quad_cube"), [PointLight((0, 0, 5))], detectors=("ta",))
     f = a["detectors"]["ta"]["formula_printed"]
     assert (f["n"], f["m"]) == (n, m)
