@@ -69,7 +69,7 @@ def test_mutated_files_never_crash_the_loader(fmt, data):
     _load_or_refuse(EXT[fmt], data.draw(mutated(fmt)))
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=int(os.environ.get("SILCOUNT_FUZZ_CLI_EXAMPLES", "25")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(fmt=st.sampled_from(FMTS), data=st.data(),
        light=st.text(alphabet="0123456789,.-eEinfa ", max_size=12))
 def test_cli_never_shows_a_traceback(fmt, data, light):
