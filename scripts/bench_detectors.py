@@ -202,7 +202,9 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=3, help="1-to-4 subdivision rounds of the bunny (default 3)")
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per fast run in a child process")
     ap.add_argument("--naive-timeout", type=float, default=120.0, help="seconds per naive run")
+    ap.add_argument("--sections", default="reference,fast,naive", help="comma-separated subset of reference,fast,naive")
     args = ap.parse_args(argv)
+    sections = set(args.sections.split(","))
     if "SILCOUNT_MESH_DIR" not in os.environ:
         print("set SILCOUNT_MESH_DIR to the directory holding bunny.ply", file=sys.stderr)
         return 2
@@ -212,9 +214,12 @@ def main(argv=None) -> int:
     print(f"mesh: bunny.ply + {args.rounds} rounds of 1-to-4 midpoint subdivision: V={mesh.n_vertices:,} "
           f"F={mesh.n_faces:,} E={mesh.n_edges:,} (built in {time.perf_counter() - t:.1f} s)")
     names = available()
-    section_reference(mesh)
-    section_fast(mesh, names, args.timeout)
-    section_naive(names, args.naive_timeout)
+    if "reference" in sections:
+        section_reference(mesh)
+    if "fast" in sections:
+        section_fast(mesh, names, args.timeout)
+    if "naive" in sections:
+        section_naive(names, args.naive_timeout)
     return 0
 
 
