@@ -1,7 +1,6 @@
 """HSD: the exact coplanar merge, hand-counted tallies, the printed sum, naive == fast, agreement,
 and the failure of a loose ("facets") merge on a scanned mesh."""
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -11,7 +10,7 @@ from silcount.coplanar import merge
 from silcount.mesh import from_polygons
 
 from strategies import closed_meshes, lights_for
-from test_ta import VIS_POINT, any_meshes
+from test_ta import any_meshes
 
 SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
