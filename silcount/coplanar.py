@@ -71,9 +71,11 @@ MERGE_STEP_COST: dict[str, dict[str, int]] = {
     "orient3d_filter": {"read": 12, "add": 19, "mul": 19, "cmp": 1},
     # the same determinant on exact integers, then its sign
     "orient3d_exact": {"read": 12, "add": 14, "mul": 9, "cmp": 1},
-    # exact n_f . n_g > 0: 18 coordinates, two normals (p1 - p0) x (p2 - p0) (6 differences,
-    # 6 mul, 3 add each), dot (3 mul, 2 add), sign
-    "normal_check": {"read": 18, "add": 20, "mul": 15, "cmp": 1},
+    # exact normal (p1 - p0) x (p2 - p0) of each face of a coplanar pair, once per face:
+    # 9 coordinates, 6 differences, 6 mul, 3 add
+    "exact_normal": {"read": 9, "add": 9, "mul": 6},
+    # n_f . n_g > 0 per coplanar pair: 6 normal components, 3 mul, 2 add, the sign
+    "normal_check": {"read": 6, "add": 2, "mul": 3, "cmp": 1},
     # grouping: each merged edge links two face labels (2 reads, 1 compare); each face gets a label
     "link": {"read": 2, "cmp": 1},
     "label": {"write": 1},
@@ -222,6 +224,7 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     steps["normal_check"] = int(cand.size)
     if cand.size:
         faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
+        steps["exact_normal"] = int(faces.size)
         used = _mask_ids(V.shape[0], first3[faces])
         exact = np.empty((V.shape[0], 3), dtype=object)
         exact[used] = _exact_ints(V[used], shift)
