@@ -43,7 +43,8 @@ sys.path.insert(0, str(REPO))
 
 import silcount  # noqa: E402
 from silcount import shapes  # noqa: E402
-from silcount.commands.render import installed_detectors, shared_scene_dir  # noqa: E402
+from silcount.commands.render import shared_scene_dir
+from silcount.detectors import DETECTORS  # noqa: E402
 from silcount.render.scene import load_scene  # noqa: E402
 from silcount.render.stencil import render_stencil  # noqa: E402
 
@@ -132,7 +133,7 @@ def main() -> int:
         print(f"\n# The papers' FPS analogue: torus of {caster.n_edges} edges on a floor, 512x512, z-fail, "
               f"best of {repeat} runs")
         print(f"{'detector':<12} {'detect ms':>9} {'rest ms':>8} {'frame ms':>9} {'FPS':>7}   paper FPS")
-        for det in installed_detectors():
+        for det in DETECTORS:
             t = best_frame(torus, "zfail", det, repeat)
             rest = t["total"] - t["silhouette"]
             src, fps = PAPER_FPS.get(det, ("", None))

@@ -25,6 +25,7 @@ import numpy as np  # noqa: E402
 from . import formulas as F  # noqa: E402
 from . import sweep  # noqa: E402
 from .cycles import builtin_profiles  # noqa: E402
+from .detectors import DETECTORS  # noqa: E402
 
 POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
 ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
@@ -104,7 +105,7 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
     label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
     for ax, model in zip(axes, ("paper", "true")):
         faces_all = []
-        for det in sweep.available_detectors():
+        for det in DETECTORS:
             series = sorted((r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
                             key=lambda r: r.faces)
             if not series:
@@ -140,7 +141,7 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
     for row, model in enumerate(("paper", "true")):
         for col, (kind, kind_label) in enumerate(KINDS):
             ax = axes[row, col]
-            for det in sweep.available_detectors():
+            for det in DETECTORS:
                 series = sorted((r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
                                 key=lambda r: r.faces)
                 pts = [(r.faces, r.tally[model][kind]) for r in series if r.tally[model][kind] > 0]
@@ -171,17 +172,17 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
              f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count.", "",
              "| detector | cost model | " + " | ".join(label for _, label in KINDS) + " |",
              "|---|---|" + "---:|" * len(KINDS)]
-    for det in sweep.available_detectors():
+    for det in DETECTORS:
         for model in ("paper", "true"):
             vals = [exps.get((det, model, k)) for k, _ in KINDS]
             lines.append(f"| {det} | {model} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in vals) + " |")
-    lines += ["", "| mesh | faces | " + " | ".join(f"{d} true total" for d in sweep.available_detectors()) + " |",
-              "|---|---:|" + "---:|" * len(sweep.available_detectors())]
+    lines += ["", "| mesh | faces | " + " | ".join(f"{d} true total" for d in DETECTORS) + " |",
+              "|---|---:|" + "---:|" * len(DETECTORS)]
     for mesh in sweep.SWEEP_MESHES:
         row = {r.detector: r for r in runs if r.mesh == mesh}
         faces = next(iter(row.values())).faces
         lines.append(f"| {mesh} | {faces} | " + " | ".join(
-            str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in sweep.available_detectors()) + " |")
+            str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in DETECTORS) + " |")
     return "\n".join(lines) + "\n"
 
 

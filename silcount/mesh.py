@@ -31,6 +31,7 @@ class Mesh:
     corners: np.ndarray           # (H,) int64 vertex index of each face corner
     name: str = "mesh"
     dropped_faces: int = 0        # faces removed because welding collapsed them
+    weld_tolerance: float = 0.0   # 0: vertices welded by exact position (see weld)
     weld_map: np.ndarray | None = field(default=None, repr=False)  # input vertex -> welded vertex
 
     # ---- sizes -------------------------------------------------------------------
@@ -275,5 +276,6 @@ def from_polygons(vertices, faces, name: str = "mesh", weld_tolerance: float = 0
         corners=renum[corners].astype(np.int64),
         name=name,
         dropped_faces=int(collapsed.sum()),
+        weld_tolerance=float(weld_tolerance),
         weld_map=np.where(used[vmap], renum[vmap], -1),
     )

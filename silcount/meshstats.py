@@ -27,7 +27,10 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from .coplanar import merge
-from .mesh import Mesh
+from .mesh import Mesh, weld
+
+NEAR_DUPLICATE_RELATIVE = 1e-9
+"""Vertices closer than this times the bounding radius are reported as near-duplicates."""
 
 PAPER_RATIOS = {"V/F": 2.0, "E/F": 6.0, "E/V": 3.0}
 
@@ -58,6 +61,17 @@ def duplicate_faces(mesh: Mesh) -> int:
     return mesh.n_faces - int(np.unique(table, axis=0).shape[0])
 
 
+def near_duplicate_vertices(mesh: Mesh) -> tuple[int, float]:
+    """How many welded vertices would merge at a tolerance of 1e-9 bounding radii, and that tolerance.
+
+    Welding is exact by default; a CAD export that writes the same corner as
+    ``0.0`` and ``-2.7e-16`` (the shared featuretype.stl) stays open until
+    such vertices merge (``--weld-tolerance``).
+    """
+    tol = NEAR_DUPLICATE_RELATIVE * max(mesh.bounding_radius, np.finfo(float).tiny)
+    return mesh.n_vertices - weld(mesh.vertices, tol)[0].shape[0], tol
+
+
 def mesh_statistics(mesh: Mesh) -> dict:
     """Everything ``silcount audit`` reports about a mesh, JSON-ready."""
     V, F, E = mesh.n_vertices, mesh.n_faces, mesh.n_edges
@@ -65,6 +79,7 @@ def mesh_statistics(mesh: Mesh) -> dict:
     chi = V - E + F
     genus = (2 * comps - chi) // 2 if mesh.is_watertight and (2 * comps - chi) % 2 == 0 else None
     area2 = np.linalg.norm(newell_normals(mesh), axis=1)
+    near, near_tol = near_duplicate_vertices(mesh)
     return {
         "name": mesh.name,
         "vertices": V,
@@ -84,6 +99,9 @@ def mesh_statistics(mesh: Mesh) -> dict:
         "zero_normal_faces": int(np.count_nonzero(~np.any(mesh.face_normals != 0.0, axis=1))),
         "duplicate_faces": duplicate_faces(mesh),
         "collapsed_faces_dropped": int(mesh.dropped_faces),
+        "weld_tolerance": mesh.weld_tolerance,
+        "near_duplicate_vertices": near,
+        "near_duplicate_tolerance": near_tol,
         "components": comps,
         "euler_characteristic": chi,
         "genus": genus,
@@ -115,6 +133,10 @@ def mesh_warnings(stats: dict) -> list[str]:
     if stats["closed"] and stats["euler_characteristic"] % 2:
         out.append(f"closed, but the Euler characteristic {stats['euler_characteristic']} is odd: "
                    "some vertices are non-manifold (pinched); genus undefined")
+    if stats["near_duplicate_vertices"]:
+        out.append(f"{stats['near_duplicate_vertices']} vertices lie within {stats['near_duplicate_tolerance']:.3g} "
+                   f"of another and were not welded (welding tolerance {stats['weld_tolerance']:g}); "
+                   f"--weld-tolerance {stats['near_duplicate_tolerance']:.3g} merges them")
     if stats["duplicate_faces"]:
         out.append(f"{stats['duplicate_faces']} duplicate faces")
     if stats["collapsed_faces_dropped"]:

@@ -16,7 +16,6 @@ icosahedron series, the closest closed polygon meshes: the dodecahedron
 """
 from __future__ import annotations
 
-import importlib.util
 import os
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -34,11 +33,6 @@ SWEEP_MESHES = tuple(f"icosphere{k}" for k in range(0, 5))
 REAL_MESHES = ("cow.obj", "fandisk.obj", "bunny.ply", "teapot.obj")
 # The variant whose loops are the printed pseudo-code's (see each detector's docstring).
 MEASURED_VARIANT = {"reference": "intended", "ta": "intended", "vnv": "literal", "hsd": "intended", "eesd": "literal"}
-
-
-def available_detectors() -> tuple[str, ...]:
-    """The detectors whose module exists in this checkout."""
-    return tuple(d for d in DETECTORS if importlib.util.find_spec(f"silcount.detectors.{d}") is not None)
 
 
 def standard_light(mesh: Mesh) -> PointLight:
@@ -113,7 +107,7 @@ def real_meshes() -> list[Mesh]:
 def sweep(with_real: bool = True) -> tuple[Run, ...]:
     """Every available detector over the icosphere series (and the real meshes)."""
     meshes = [builtin_mesh(name) for name in SWEEP_MESHES] + (real_meshes() if with_real else [])
-    return tuple(run(d, mesh) for d in available_detectors() for mesh in meshes)
+    return tuple(run(d, mesh) for d in DETECTORS for mesh in meshes)
 
 
 def fit_exponent(faces, counts) -> float | None:

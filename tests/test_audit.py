@@ -15,7 +15,7 @@ import silcount
 from silcount import PointLight, DirectionalLight, from_polygons
 from silcount.audit import AuditSettings, random_lights, run_audit, winding_number
 from silcount.commands import report as report_cmd
-from silcount.commands.audit import available_detectors
+from silcount.detectors import DETECTORS
 from silcount.counting import KINDS
 from silcount.formats import render
 from silcount.meshstats import mesh_statistics
@@ -29,7 +29,7 @@ EXACT = ("reference", "ta", "vnv", "hsd")   # detectors whose intended variant m
 
 
 def audit(mesh, lights, **kw):
-    kw.setdefault("detectors", available_detectors())
+    kw.setdefault("detectors", DETECTORS)
     return run_audit(mesh, lights, AuditSettings(**kw), quiet=True)
 
 
@@ -237,3 +237,16 @@ def test_euler_characteristic_matches_trimesh_on_real_meshes(shared_mesh):
         assert ours["euler_characteristic"] == theirs.euler_number, name
         if ours["closed"] and ours["euler_characteristic"] % 2:
             assert ours["genus"] is None
+
+
+def test_near_duplicate_vertices_are_reported_and_weldable(tmp_path):
+    # One quad corner written twice: z = 0.0 and z = -2.7e-16 (as in the shared featuretype.stl).
+    from silcount.meshstats import mesh_statistics, mesh_warnings
+
+    v = [[0, 0, 0.0], [1, 0, 0], [0, 1, 0], [0, 0, -2.7e-16], [0, -1, 0]]
+    mesh = silcount.from_polygons(v, [[0, 1, 2], [3, 4, 1]])
+    stats = mesh_statistics(mesh)
+    assert stats["near_duplicate_vertices"] == 1
+    assert any("--weld-tolerance" in w for w in mesh_warnings(stats))
+    welded = silcount.from_polygons(v, [[0, 1, 2], [3, 4, 1]], weld_tolerance=stats["near_duplicate_tolerance"])
+    assert mesh_statistics(welded)["near_duplicate_vertices"] == 0

@@ -118,13 +118,6 @@ def test_report_runs_each_part_and_prints_where_it_wrote(tmp_path, monkeypatch):
     assert json.loads((tmp_path / "audit" / "tetrahedron.json").read_text())["detectors"]["reference"]["time_s"] is None
 
 
-def test_report_skips_a_part_that_has_no_report_function(tmp_path, monkeypatch):
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", ())
-    monkeypatch.setattr(report_cmd, "PARTS", ("not_written_yet",))
-    rc, out, err = run_cli("report", "--out", str(tmp_path))
-    assert rc == 0 and "skipped not_written_yet" in err and "audit: wrote 0 files" in out
-
-
 def test_negative_light_coordinates_need_no_equals_sign(tetra):
     rc, out, err = run_cli("audit", str(tetra), "--light", "-1,-2,5", "--directional", "-.5,0,1", "--format", "json",
                            "--detectors", "reference")

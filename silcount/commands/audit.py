@@ -9,7 +9,6 @@ is then a directory receiving ``<mesh>.<format>``.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import re
 import sys
 from pathlib import Path
@@ -30,11 +29,6 @@ HELP = "audit a mesh: silhouette edges and operation tallies of every detector, 
 EXTENSIONS = {"text": "txt", "md": "md", "json": "json"}
 
 
-def available_detectors() -> tuple[str, ...]:
-    """The detectors whose module is installed (all of :data:`DETECTORS` once every one has landed)."""
-    return tuple(d for d in DETECTORS if importlib.util.find_spec(f"silcount.detectors.{d}") is not None)
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     # let "--light -1,2,3" read as a value, as argparse already does for "-1" and "-.5"
     parser._negative_number_matcher = re.compile(r"^-[\d.]")
@@ -48,7 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"(default {DEFAULT_LIGHT_COUNT} when no light is given)")
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the random lights (default {DEFAULT_SEED})")
     parser.add_argument("--detectors", default=None, metavar="LIST",
-                        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all installed)")
+                        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all)")
     parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
     parser.add_argument("--engine", choices=("fast", "naive"), default="fast")
     parser.add_argument("--cycles", default="paper", metavar="PROFILE|FILE",
@@ -60,6 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write here instead of stdout (a directory when MESH is omitted)")
     parser.add_argument("--max-memory", default=None, metavar="SIZE",
                         help="refuse meshes estimated to need more (e.g. 2G; default $SILCOUNT_MAX_MEMORY or free RAM)")
+    parser.add_argument("--weld-tolerance", type=float, default=0.0, metavar="T",
+                        help="merge vertices closer than T (default 0: weld by exact position only)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
 
 
@@ -86,16 +82,13 @@ def explicit_lights(args: argparse.Namespace) -> list[Light]:
 
 
 def settings_from(args: argparse.Namespace) -> AuditSettings:
-    installed = available_detectors()
     if args.detectors is None:
-        chosen = installed
+        chosen = DETECTORS
     else:
         chosen = tuple(d.strip() for d in args.detectors.split(",") if d.strip())
         for d in chosen:
             if d not in DETECTORS:
                 raise BadArgument(f"--detectors: unknown detector {d!r}; choose from {', '.join(DETECTORS)}")
-            if d not in installed:
-                raise BadArgument(f"--detectors: detector {d!r} is not implemented yet")
         if not chosen:
             raise BadArgument("--detectors: the list is empty")
     variants = ("intended", "literal") if args.variant == "both" else (args.variant,)
@@ -124,7 +117,9 @@ def run(args: argparse.Namespace) -> int:
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
     cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
     if args.mesh is not None:
-        mesh = load_mesh(args.mesh, max_memory=max_memory)
+        if not args.weld_tolerance >= 0.0:
+            raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
+        mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
         text = render(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
         if args.out is None:
             sys.stdout.write(text)

@@ -15,7 +15,6 @@ z-fail mask against the reference detector's.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import os
 import sys
@@ -84,10 +83,6 @@ def shared_scene_dir() -> Path | None:
     return d if d.is_dir() else None
 
 
-def installed_detectors() -> tuple[str, ...]:
-    return tuple(d for d in DETECTORS if importlib.util.find_spec(f"silcount.detectors.{d}") is not None)
-
-
 def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
     c = compare_masks(mask, truth, coverage)
     return {"shadow_pixels": int(mask.sum()), "mismatched": c.mismatched, "covered": c.covered,
@@ -129,7 +124,7 @@ def report(out_dir: Path) -> list[Path]:
                 r = render_method(scene, "planar", variant=variant)
                 written += write_outputs(scene, r, dest / f"{name}.planar-{variant}.png", None, None)
                 entry["methods"][f"planar-{variant}"] = _entry(r.mask, truth.mask, floor)
-        for det in installed_detectors():
+        for det in DETECTORS:
             for variant in ("intended", "literal"):
                 key = f"{det}-{variant}"
                 try:
