@@ -25,6 +25,7 @@ import sympy as sp
 
 from . import formulas as F
 from . import models, projection, sweep
+from .atomic import write_text
 from .counting import KINDS
 from .cycles import Profile, builtin_profiles
 
@@ -495,6 +496,5 @@ def write_all(out_dir: Path) -> list[Path]:
     paths = []
     for fmt, fn in (("txt", render_text), ("md", render_md), ("json", render_json)):
         path = out_dir / f"claims.{fmt}"
-        path.write_text(fn(claims), encoding="utf-8")
-        paths.append(path)
+        paths.append(write_text(path, fn(claims)))
     return paths

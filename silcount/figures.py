@@ -24,6 +24,7 @@ import numpy as np  # noqa: E402
 
 from . import formulas as F  # noqa: E402
 from . import sweep  # noqa: E402
+from .atomic import atomic_path, write_text  # noqa: E402
 from .cycles import builtin_profiles  # noqa: E402
 from .detectors import DETECTORS  # noqa: E402
 
@@ -38,7 +39,8 @@ def _save(fig, out_dir: Path, stem: str) -> list[Path]:
     paths = []
     for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
         path = out_dir / f"{stem}.{ext}"
-        fig.savefig(path, dpi=110, metadata=meta, bbox_inches="tight")
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format=ext, dpi=110, metadata=meta, bbox_inches="tight")
         paths.append(path)
     plt.close(fig)
     return paths
@@ -196,6 +198,6 @@ def write_all(out_dir: Path) -> list[Path]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     table = out_dir / "growth.md"
-    table.write_text(exponent_table(), encoding="utf-8")
+    write_text(table, exponent_table())
     with plt.rc_context(STYLE):
         return operations(out_dir) + cycles(out_dir) + growth(out_dir) + growth_by_kind(out_dir) + [table]

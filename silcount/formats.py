@@ -8,10 +8,9 @@ computes: it only lays out the dictionary built by :mod:`silcount.audit`.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
+from .atomic import write_text
 from .counting import KINDS
 
 FORMATS = ("text", "md", "json")
@@ -115,14 +114,7 @@ def render(audit: dict, form: str) -> str:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same directory, then rename."""
+    """Write ``text`` to ``path`` atomically (:mod:`silcount.atomic`), creating missing directories."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_text(path, text)

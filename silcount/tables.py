@@ -27,6 +27,7 @@ from pathlib import Path
 
 from . import formulas as F
 from . import models, sweep
+from .atomic import write_text
 from .claims import PAPER_FILES, _num
 
 KIND_ORDER = ("mul", "add", "cmp", "read", "write")
@@ -160,6 +161,5 @@ def write_all(out_dir: Path) -> list[Path]:
     paths = []
     for fmt in FORMATS:
         path = out_dir / f"tables.{fmt}"
-        path.write_text(render(fmt), encoding="utf-8")
-        paths.append(path)
+        paths.append(write_text(path, render(fmt)))
     return paths

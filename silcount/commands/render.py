@@ -24,7 +24,8 @@ import numpy as np
 
 from ..detectors import DETECTORS
 from ..errors import BadArgument
-from ..render.masks import compare_masks, write_mask, write_png, write_text
+from ..atomic import write_text
+from ..render.masks import compare_masks, write_mask, write_png
 from ..render.methods import METHODS, Rendered, render_method
 from ..render.planar import floor_plane
 from ..render.scene import Scene, load_scene

@@ -63,6 +63,20 @@ class MeshMemory:
         self.light = Memory(np.asarray(src, dtype=np.float64), counter)
 
 
+def counted_face_normal(mem: MeshMemory, p: int) -> tuple[list[Num], list[Num]]:
+    """Face ``p``'s first vertex and normal ``(p1 - p0) x (p2 - p0)``, on counting arithmetic.
+
+    Reads the face's start offset, its first three corner indices and their
+    nine coordinates (13 R); 9 A and 6 M.
+    """
+    s = plain(mem.face_start[p])
+    idx = [plain(mem.corners[s + k]) for k in range(3)]
+    pts = [[mem.vertices[3 * i + c] for c in range(3)] for i in idx]
+    e1 = [pts[1][c] - pts[0][c] for c in range(3)]
+    e2 = [pts[2][c] - pts[0][c] for c in range(3)]
+    return pts[0], [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+
+
 def counted_visibility(mem: MeshMemory, p: int) -> tuple[bool, float]:
     """Is face ``p`` light-facing?  Executed on counting arithmetic.
 
@@ -72,14 +86,9 @@ def counted_visibility(mem: MeshMemory, p: int) -> tuple[bool, float]:
     ``d = direction``, ``d . n`` and one comparison with 0.
     Returns the flag and the plain value of ``d . n`` (to count ties).
     """
-    s = plain(mem.face_start[p])
-    idx = [plain(mem.corners[s + k]) for k in range(3)]
-    pts = [[mem.vertices[3 * i + c] for c in range(3)] for i in idx]
-    e1 = [pts[1][c] - pts[0][c] for c in range(3)]
-    e2 = [pts[2][c] - pts[0][c] for c in range(3)]
-    nrm = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+    p0, nrm = counted_face_normal(mem, p)
     lv = [mem.light[c] for c in range(3)]
-    d = lv if mem.directional else [lv[c] - pts[0][c] for c in range(3)]
+    d = lv if mem.directional else [lv[c] - p0[c] for c in range(3)]
     dot = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2]
     return dot > 0.0, plain(dot)
 
@@ -196,6 +205,6 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 
 __all__ = [
-    "Silhouette", "facing", "MeshMemory", "counted_visibility", "visibility_true_cost",
+    "Silhouette", "facing", "MeshMemory", "counted_face_normal", "counted_visibility", "visibility_true_cost",
     "add_scaled", "oriented_edges", "make_silhouette", "unique_ids", "VARIANTS", "ENGINES", "Num", "plain",
 ]

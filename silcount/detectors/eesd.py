@@ -114,7 +114,7 @@ from ..lights import DirectionalLight, Light
 from ..mesh import Mesh, from_polygons
 from ..onplane import zeros_per_point
 from ..raytrace import RayTracer
-from .base import MeshMemory, Silhouette, add_scaled, make_silhouette
+from .base import MeshMemory, Silhouette, add_scaled, counted_face_normal, make_silhouette
 from .reference import facing_flags
 
 NAME = "eesd"
@@ -182,13 +182,8 @@ def counted_triangle_hit(o, d, a, b, c, t_min: float, t_max: float) -> bool:
 
 def counted_plane(mem: MeshMemory, f: int) -> list[Num]:
     """The literal ``plane`` step: ``(a, b, c, d)`` of face ``f`` from its first three corners."""
-    s = plain(mem.face_start[f])
-    idx = [plain(mem.corners[s + k]) for k in range(3)]
-    pts = [[mem.vertices[3 * i + k] for k in range(3)] for i in idx]
-    e1 = [pts[1][k] - pts[0][k] for k in range(3)]
-    e2 = [pts[2][k] - pts[0][k] for k in range(3)]
-    n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
-    return n + [0.0 - (n[0] * pts[0][0] + n[1] * pts[0][1] + n[2] * pts[0][2])]
+    p0, n = counted_face_normal(mem, f)
+    return n + [0.0 - (n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2])]
 
 
 @lru_cache(maxsize=None)

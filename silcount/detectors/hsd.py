@@ -47,7 +47,7 @@ from ..mesh import Mesh
 from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, visibility_true_cost
 from .edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
 from .reference import facing_flags, silhouette_edge_ids
-from .ta import array_true_tally, finish
+from .ta import array_true_tally, edges_in, finish, toggle
 
 NAME = "hsd"
 CRITERION = {"intended": "tight", "literal": "facets"}
@@ -75,20 +75,8 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
             continue
         first, last = plain(start[p]), plain(start[p + 1])
         for q in range(first, last):                            # for each boundary side
-            vp, vq = side_from[q], side_to[q]
-            steps["search_S"] += 1
-            pos = S.find(vq * V + vp)
-            if pos >= 0:
-                steps["shift"] += S.length.value - pos - 1
-                S.delete(pos)
-                steps["delete"] += 1
-            else:
-                S.append(vp * V + vq)
-                steps["add"] += 1
-    keys = S.keys()
-    pairs = np.stack([keys // V, keys % V], axis=1)
-    lo, hi = pairs.min(axis=1), pairs.max(axis=1)
-    ids = np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi)
+            toggle(S, side_from[q], side_to[q], V, steps)       # TA's side step
+    ids, pairs = edges_in(S, mesh)
     return ids, pairs, steps, dict(counter), ties, poly_facing
 
 

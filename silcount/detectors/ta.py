@@ -109,21 +109,31 @@ def _naive(mesh: Mesh, light: Light, variant: str):
             continue
         first, last = plain(mem.face_start[p]), plain(mem.face_start[p + 1])
         for q in range(first, last):                            # For q = 1 to Number Of Side
-            vp, vq = mem.corners[q], side_to[q]
-            steps["search_S"] += 1
-            pos = S.find(vq * V + vp)                           # If v_p v_q^-1 belongs to S
-            if pos >= 0:
-                steps["shift"] += S.length.value - pos - 1
-                S.delete(pos)                                   # Delete it from S
-                steps["delete"] += 1
-            else:
-                S.append(vp * V + vq)                           # Add v_p v_q to S
-                steps["add"] += 1
+            toggle(S, mem.corners[q], side_to[q], V, steps)
+    ids, pairs = edges_in(S, mesh)
+    return ids, pairs, steps, dict(counter), ties, flags
+
+
+def toggle(S: CountedEdgeArray, vp, vq, V: int, steps: dict[str, int]) -> None:
+    """One side ``v_p -> v_q`` of a light-facing face: the body of TA's inner loop (also HSD's)."""
+    steps["search_S"] += 1
+    pos = S.find(vq * V + vp)                                   # If v_p v_q^-1 belongs to S
+    if pos >= 0:
+        steps["shift"] += S.length.value - pos - 1
+        S.delete(pos)                                           # Delete it from S
+        steps["delete"] += 1
+    else:
+        S.append(vp * V + vq)                                   # Add v_p v_q to S
+        steps["add"] += 1
+
+
+def edges_in(S: CountedEdgeArray, mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """The edge ids and directed (from, to) pairs of what S holds, in S's order."""
+    V = mesh.n_vertices
     keys = S.keys()
     pairs = np.stack([keys // V, keys % V], axis=1)
     lo, hi = pairs.min(axis=1), pairs.max(axis=1)
-    ids = np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi)
-    return ids, pairs, steps, dict(counter), ties, flags
+    return np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi), pairs
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):

@@ -3,7 +3,7 @@
 A mask is an 8-bit grayscale PNG, 255 in shadow and 0 elsewhere; a coverage
 PNG is 255 where the sample hits a surface.  Reading accepts any PNG mode
 and thresholds at 128.  Files are written atomically (temporary file in the
-same directory, then ``os.replace``).
+same directory, then ``os.replace``: :mod:`silcount.atomic`).
 
 Comparison: mismatches as a fraction of covered pixels (all pixels when no
 coverage is given), and the *far* mismatches: those more than one pixel
@@ -13,13 +13,13 @@ one whose value differs from one of its 8 neighbours.
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from PIL import Image, UnidentifiedImageError
 
+from ..atomic import atomic_path
 from ..errors import BadArgument, UnreadableInput
 
 
@@ -28,29 +28,11 @@ def write_png(path: str | os.PathLike, pixels: np.ndarray) -> Path:
     p = Path(path)
     if not p.parent.exists():
         raise BadArgument(f"{p}: directory {p.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".png", dir=p.parent)
-    os.close(fd)
-    try:
+    with atomic_path(p) as tmp:
         Image.fromarray(np.ascontiguousarray(pixels)).save(tmp, format="PNG", optimize=False)
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return p
 
 
-def write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write UTF-8 text atomically (temporary file in the same directory, then rename)."""
-    p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return p
 
 
 def write_mask(path: str | os.PathLike, mask: np.ndarray) -> Path:
