@@ -24,6 +24,6 @@ __version__ = "0.1.0"
 
 __all__ = [
     "DETECTORS", "Silhouette", "detect", "load_mesh", "PointLight", "DirectionalLight", "Mesh",
-    "from_polygons", "builtin_mesh", "SilcountError", "UnreadableInput", "InvalidMesh", "BadArgument",
+    "from_polygons", "builtin_mesh", "shapes", "SilcountError", "UnreadableInput", "InvalidMesh", "BadArgument",
     "__version__",
 ]

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import silcount
-from strategies import closed_meshes, convex_hulls, lights_for, mesh_and_light
+from strategies import convex_hulls, lights_for, mesh_and_light
 
 EXACT = ("ta", "vnv", "hsd")
 SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -22,7 +22,7 @@ from silcount.meshstats import mesh_statistics
 from silcount.progress import Progress
 from pathlib import Path
 
-from meshfiles import TETRA_F, TETRA_V, obj_text, write
+from meshfiles import TETRA_F, TETRA_V, write
 
 REPO = Path(__file__).resolve().parent.parent
 EXACT = ("reference", "ta", "vnv", "hsd")   # detectors whose intended variant must equal the reference everywhere

@@ -8,8 +8,6 @@ text with sympy's implicit multiplication.
 """
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 import pytest
 import sympy as sp

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..claims import render, report  # noqa: F401  (report: used by `silcount report`)
 from ..cycles import load_profile
