@@ -1,7 +1,9 @@
 """The reference detector, checked against silhouettes worked out by hand."""
 import numpy as np
+from hypothesis import given, settings
 
 import silcount
+from strategies import mesh_and_light
 
 
 def test_quad_cube_light_on_axis_sees_square_ring():
@@ -30,3 +32,13 @@ def test_naive_equals_fast_on_torus():
     b = silcount.detect(m, light, "reference", engine="naive")
     assert np.array_equal(a.edges, b.edges) and np.array_equal(a.oriented, b.oriented)
     assert a.tally == b.tally and a.steps == b.steps
+
+
+@settings(max_examples=40, deadline=None)
+@given(mesh_and_light())
+def test_naive_equals_fast_to_the_unit(ml):
+    mesh, light = ml
+    a = silcount.detect(mesh, light, "reference", engine="fast")
+    b = silcount.detect(mesh, light, "reference", engine="naive")
+    assert np.array_equal(a.edges, b.edges) and np.array_equal(a.oriented, b.oriented)
+    assert a.tally == b.tally and a.steps == b.steps and a.ties == b.ties
