@@ -290,3 +290,18 @@ def test_real_process_prints_one_line_and_no_traceback(tmp_path):
     assert proc.returncode == 3
     assert proc.stdout == "" and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
     assert str(p) in proc.stderr
+
+
+@pytest.mark.parametrize("ext", [".glb", ".gltf"])
+def test_valid_gltf_loads_as_the_mesh_it_was_written_from(tmp_path, ext):
+    # A second implementation writes the file (trimesh's exporter); silcount reads it back.
+    import trimesh
+
+    import silcount
+
+    ico = silcount.builtin_mesh("icosahedron")
+    path = tmp_path / f"ico{ext}"
+    trimesh.Trimesh(ico.vertices, ico.faces, process=False).export(path)
+    loaded = silcount.load_mesh(path)
+    assert (loaded.n_vertices, loaded.n_faces, loaded.n_edges) == (12, 20, 30)
+    assert loaded.is_watertight
