@@ -82,26 +82,26 @@ def step_runs(model: str, step: str) -> tuple[sp.Expr, sp.Expr]:
     return parse(spec.get("runs", "0")), sp.simplify(structure * parse(spec.get("branch", "1")))
 
 
+def _sum_over_steps(model: str, structural: bool, corrected: bool) -> Form:
+    """``sum(runs * cost)`` over the steps, with the printed or the structural run counts."""
+    total = zero_form()
+    for step, spec in steps(model).items():
+        runs = step_runs(model, step)[1 if structural else 0]
+        for kind, c in _step_cost(spec, corrected).items():
+            total[kind] += runs * c
+    return {k: sp.expand(x) for k, x in total.items()}
+
+
 @lru_cache(maxsize=None)
 def charged(model: str) -> Form:
     """``sum(runs * cost)`` over the steps: the printed sum, rebuilt from its lines."""
-    total = zero_form()
-    for step, spec in steps(model).items():
-        runs, _ = step_runs(model, step)
-        for kind, c in _step_cost(spec, False).items():
-            total[kind] += runs * c
-    return {k: sp.expand(x) for k, x in total.items()}
+    return _sum_over_steps(model, structural=False, corrected=False)
 
 
 @lru_cache(maxsize=None)
 def rederive(model: str, corrected: bool = False) -> Form:
     """``sum(loop bounds * branch * cost)``: the pseudo-code's cost, symbolic in v and s."""
-    total = zero_form()
-    for step, spec in steps(model).items():
-        _, runs = step_runs(model, step)
-        for kind, c in _step_cost(spec, corrected).items():
-            total[kind] += runs * c
-    return {k: sp.expand(x) for k, x in total.items()}
+    return _sum_over_steps(model, structural=True, corrected=corrected)
 
 
 def paper_file(model: str) -> str:

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..counting import KINDS, Memory, Num, OpCounter, plain
-from ..lights import DirectionalLight, Light, PointLight, facing_values
+from ..lights import DirectionalLight, Light, PointLight
 from ..mesh import Mesh, from_polygons
 from .. import models
 
@@ -42,12 +42,6 @@ class Silhouette:
     @property
     def n_edges(self) -> int:
         return int(self.edge_ids.size)
-
-
-def facing(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
-    """Vectorised light-facing flags (F,) and the number of exact ties."""
-    val = facing_values(mesh.face_p0, mesh.face_normals, light)
-    return val > 0.0, int(np.count_nonzero(val == 0.0))
 
 
 class MeshMemory:
@@ -205,6 +199,6 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 
 __all__ = [
-    "Silhouette", "facing", "MeshMemory", "counted_face_normal", "counted_visibility", "visibility_true_cost",
+    "Silhouette", "MeshMemory", "counted_face_normal", "counted_visibility", "visibility_true_cost",
     "add_scaled", "oriented_edges", "make_silhouette", "unique_ids", "VARIANTS", "ENGINES", "Num", "plain",
 ]

@@ -13,7 +13,7 @@ Sec. 3-4).  The paper clips each quad "between occluder and receiver"
 an infinite far plane needs no receiver and no clipping and is what makes
 z-fail robust.
 
-Light-facing is the detectors' rule (:func:`silcount.detectors.base.facing`,
+Light-facing is the detectors' rule (:func:`silcount.detectors.reference.facing_flags`,
 ``(L - p0) . n > 0``).  For a directional light every far vertex is the one
 point ``(-d, 0)``: the sides are triangles and the dark cap vanishes.
 """
@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..detectors import detect
-from ..detectors.base import Silhouette, facing
+from ..detectors.base import Silhouette
+from ..detectors.reference import facing_flags
 from ..lights import DirectionalLight, Light
 from ..mesh import Mesh
 
@@ -66,7 +67,7 @@ def build_volume(mesh: Mesh, light: Light, detector: str = "reference", variant:
                  silhouette: Silhouette | None = None) -> Volume:
     """Run ``detector`` (engine ``fast``) and build the caster's volume; pass ``silhouette`` to reuse one."""
     sil = silhouette if silhouette is not None else detect(mesh, light, detector, variant=variant, engine="fast")
-    lit, _ = facing(mesh, light)
+    lit, _ = facing_flags(mesh, light)     # the detectors' own facing test: caps agree with the sides
     if isinstance(light, DirectionalLight):
         dark = np.zeros((0, 3, 4))
     else:
