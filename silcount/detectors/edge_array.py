@@ -76,6 +76,18 @@ class Replay:
     shifted: int            # elements moved left by deletions
 
 
+@njit(cache=True, inline="always")
+def _enqueue(s, key, slot_key, alive, head, tail, nxt):  # pragma: no cover - compiled
+    """Slot ``s`` now holds a live copy of ``key``, last in that key's queue of copies."""
+    slot_key[s] = key
+    alive[s] = True
+    if head[key] < 0:
+        head[key] = s
+    else:
+        nxt[tail[key]] = s
+    tail[key] = s
+
+
 @njit(cache=True)
 def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover - compiled
     n_init = initial.size
@@ -96,14 +108,7 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
         if parent <= n_slots:
             tree[parent] += tree[i]
     for s in range(n_init):
-        k = initial[s]
-        slot_key[s] = k
-        alive[s] = True
-        if head[k] < 0:
-            head[k] = s
-        else:
-            nxt[tail[k]] = s
-        tail[k] = s
+        _enqueue(s, initial[s], slot_key, alive, head, tail, nxt)
     size = n_init
     used = n_init
     searched = 0
@@ -144,13 +149,7 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
                 while i <= n_slots:
                     tree[i] += 1
                     i += i & -i
-                alive[s] = True
-                slot_key[s] = key
-                if head[key] < 0:
-                    head[key] = s
-                else:
-                    nxt[tail[key]] = s
-                tail[key] = s
+                _enqueue(s, key, slot_key, alive, head, tail, nxt)
                 size += 1
     live = slot_key[:used][alive[:used]]
     return live, searched, examined, deleted, used - n_init, shifted
