@@ -18,6 +18,7 @@
 
 Timings on a shared 2-core machine are noisy: read the ratios, not the digits.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -33,7 +34,7 @@ import trimesh
 
 import silcount
 from silcount.detectors import DETECTORS
-from silcount.detectors import reference as ref_module
+from silcount.detectors import adjacency as ref_module
 
 
 def build_mesh(rounds: int) -> silcount.Mesh:
@@ -51,7 +52,9 @@ def lights(mesh: silcount.Mesh, k: int, seed: int = 1):
     for i in range(k):
         d = rng.normal(size=3)
         d /= np.linalg.norm(d)
-        out.append(silcount.DirectionalLight(d) if i % 2 else silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d))
+        out.append(
+            silcount.DirectionalLight(d) if i % 2 else silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d)
+        )
     return out
 
 
@@ -140,15 +143,19 @@ def run_child(target, args, timeout: float):
 def section_fast(mesh: silcount.Mesh, names: list[str], timeout: float) -> None:
     print(f"\n== fast tallies on {mesh.n_faces:,} faces (fresh forked process per run; timeout {timeout:.0f} s) ==")
     rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    print(f"parent peak RSS with the mesh loaded: {rss0 / 2**30:.2f} GiB; each child shares the parent's pages and"
-          " reports its own peak RSS (the pages it touched): the total is at most the sum")
+    print(
+        f"parent peak RSS with the mesh loaded: {rss0 / 2**30:.2f} GiB; each child shares the parent's pages and"
+        " reports its own peak RSS (the pages it touched): the total is at most the sum"
+    )
     for name in names:
         for variant in ("intended", "literal") if name != "reference" else ("intended",):
             res = run_child(_child_fast, (mesh, name, variant), timeout)
             if res[0] == "ok":
                 _, t1, t2, rss, k, tally, dis = res
-                print(f"{name:9s} {variant:8s} first {t1:7.2f} s  next light {t2:7.2f} s  peak RSS {rss / 2**30:5.2f} GiB"
-                      f"  edges {k:7d}  vs reference {dis}")
+                print(
+                    f"{name:9s} {variant:8s} first {t1:7.2f} s  next light {t2:7.2f} s  peak RSS {rss / 2**30:5.2f} GiB"
+                    f"  edges {k:7d}  vs reference {dis}"
+                )
                 print(f"{'':18s} paper {tally['paper']}")
                 print(f"{'':18s} true  {tally['true']}")
             else:
@@ -177,19 +184,23 @@ def _child_fast_only(mesh, name, variant, out):
 
 
 def section_naive(names: list[str], timeout: float) -> None:
-    mesh = silcount.shapes.torus(1.0, 0.35, 40, 25)
+    mesh = silcount.mesh.shapes.torus(1.0, 0.35, 40, 25)
     print(f"\n== naive vs fast on a torus of {mesh.n_faces} faces (timeout {timeout:.0f} s per naive run) ==")
     for name in names:
         for variant in ("intended", "literal") if name != "reference" else ("intended",):
             res = run_child(_child_naive, (mesh, name, variant), timeout)
             if res[0] == "ok":
                 _, tn, tf, same = res
-                print(f"{name:9s} {variant:8s} naive {tn:8.2f} s  fast {tf * 1e3:8.2f} ms  speed-up {tn / tf:10.0f} x"
-                      f"  identical {same}")
+                print(
+                    f"{name:9s} {variant:8s} naive {tn:8.2f} s  fast {tf * 1e3:8.2f} ms  speed-up {tn / tf:10.0f} x"
+                    f"  identical {same}"
+                )
             elif res[0] == "timeout":
                 tf = run_child(_child_fast_only, (mesh, name, variant), timeout)[1]
-                print(f"{name:9s} {variant:8s} naive > {timeout:.0f} s (timed out)  fast {tf * 1e3:8.2f} ms  "
-                      f"speed-up > {timeout / tf:8.0f} x")
+                print(
+                    f"{name:9s} {variant:8s} naive > {timeout:.0f} s (timed out)  fast {tf * 1e3:8.2f} ms  "
+                    f"speed-up > {timeout / tf:8.0f} x"
+                )
             else:
                 print(f"{name:9s} {variant:8s} {' '.join(map(str, res))}")
 
@@ -208,8 +219,10 @@ def main(argv=None) -> int:
     t = time.perf_counter()
     mesh = build_mesh(args.rounds)
     mesh.edges, mesh.edge_sides, mesh.manifold_sides, mesh.face_normals, mesh.face_p0  # shared by the children
-    print(f"mesh: bunny.ply + {args.rounds} rounds of 1-to-4 midpoint subdivision: V={mesh.n_vertices:,} "
-          f"F={mesh.n_faces:,} E={mesh.n_edges:,} (built in {time.perf_counter() - t:.1f} s)")
+    print(
+        f"mesh: bunny.ply + {args.rounds} rounds of 1-to-4 midpoint subdivision: V={mesh.n_vertices:,} "
+        f"F={mesh.n_faces:,} E={mesh.n_edges:,} (built in {time.perf_counter() - t:.1f} s)"
+    )
     names = list(DETECTORS)
     if "reference" in sections:
         section_reference(mesh)

@@ -9,21 +9,69 @@ rasteriser that checks the shadows they produce.
 >>> res = silcount.detect(mesh, silcount.PointLight((0.0, 0.0, 5.0)), "ta")
 >>> res.edges.shape[1]
 2
+
+The names below are loaded on first use (PEP 562), so ``import silcount``
+costs numpy and nothing heavier; each lives in the subpackage named beside it.
 """
+
 from __future__ import annotations
 
-from .detectors import DETECTORS, Silhouette, detect
-from .errors import BadArgument, InvalidMesh, SilcountError, UnreadableInput
-from .io import load_mesh
-from .lights import DirectionalLight, PointLight
-from .mesh import Mesh, from_polygons
-from . import shapes
-from .shapes import builtin_mesh
+import importlib
+from typing import TYPE_CHECKING, Any
 
-__version__ = "0.1.0"
+from silcount.errors import BadArgument, InvalidMesh, SilcountError, UnreadableInput
+from silcount.version import __version__
+
+# public name -> the module that defines it
+_LAZY: dict[str, str] = {
+    "DETECTORS": "silcount.detectors",
+    "Silhouette": "silcount.detectors",
+    "detect": "silcount.detectors",
+    "load_mesh": "silcount.mesh.io",
+    "PointLight": "silcount.mesh.lights",
+    "DirectionalLight": "silcount.mesh.lights",
+    "Mesh": "silcount.mesh.model",
+    "from_polygons": "silcount.mesh.model",
+    "builtin_mesh": "silcount.mesh.shapes",
+    "shapes": "silcount.mesh",
+}
+
+if TYPE_CHECKING:
+    from silcount.detectors import DETECTORS, Silhouette, detect
+    from silcount.mesh import shapes
+    from silcount.mesh.io import load_mesh
+    from silcount.mesh.lights import DirectionalLight, PointLight
+    from silcount.mesh.model import Mesh, from_polygons
+    from silcount.mesh.shapes import builtin_mesh
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'silcount' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
-    "DETECTORS", "Silhouette", "detect", "load_mesh", "PointLight", "DirectionalLight", "Mesh",
-    "from_polygons", "builtin_mesh", "shapes", "SilcountError", "UnreadableInput", "InvalidMesh", "BadArgument",
+    "DETECTORS",
+    "Silhouette",
+    "detect",
+    "load_mesh",
+    "PointLight",
+    "DirectionalLight",
+    "Mesh",
+    "from_polygons",
+    "builtin_mesh",
+    "shapes",
+    "SilcountError",
+    "UnreadableInput",
+    "InvalidMesh",
+    "BadArgument",
     "__version__",
 ]

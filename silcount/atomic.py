@@ -4,13 +4,14 @@ A file is written to a temporary name in its destination directory, then
 renamed over the destination with ``os.replace`` (atomic on POSIX), so an
 error or an interrupt never leaves half a report, mask or figure behind.
 """
+
 from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
 
 
 @contextmanager

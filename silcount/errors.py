@@ -1,9 +1,10 @@
 """The small error hierarchy of silcount.
 
 The library raises these; only the CLI turns them into one line on stderr and
-an exit code (see ``silcount.cli``).  Exit codes are part of the public
+an exit code (see ``silcount.cli.main``).  Exit codes are part of the public
 contract and documented in the README.
 """
+
 from __future__ import annotations
 
 

@@ -1,10 +1,37 @@
-"""Shared fixtures: the real meshes of ../shared/data, found through SILCOUNT_MESH_DIR."""
+"""Shared fixtures (the real meshes of ../shared/data, found through SILCOUNT_MESH_DIR) and test settings.
+
+The suite leaves the checkout as it found it: numba's cache goes to
+``$NUMBA_CACHE_DIR`` (the Makefile points it into ``.venv``; here a user cache
+folder when unset), and hypothesis keeps its example database in a temporary
+folder.  Hypothesis profiles: ``ci`` (the default) and ``long`` (10x the
+examples, the database kept under the user cache), chosen by
+``SILCOUNT_HYPOTHESIS_PROFILE``.
+"""
+
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 
-import pytest
+os.environ.setdefault("NUMBA_CACHE_DIR", str(Path.home() / ".cache" / "silcount" / "numba"))
+
+import pytest  # noqa: E402
+from hypothesis import HealthCheck, settings  # noqa: E402
+from hypothesis.database import DirectoryBasedExampleDatabase  # noqa: E402
+
+settings.register_profile(
+    "ci",
+    database=DirectoryBasedExampleDatabase(tempfile.mkdtemp(prefix="silcount-hypothesis-")),
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "long",
+    max_examples=1000,
+    suppress_health_check=[HealthCheck.too_slow],
+    database=DirectoryBasedExampleDatabase(str(Path.home() / ".cache" / "silcount" / "hypothesis")),
+)
+settings.load_profile(os.environ.get("SILCOUNT_HYPOTHESIS_PROFILE", "ci"))
 
 
 def mesh_dir() -> Path | None:

@@ -1,4 +1,5 @@
 """Small mesh files written on the fly (tmp_path) in every format silcount reads, for the bad-input and fuzz tests."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -4,6 +4,7 @@
 * perturbed tori (closed, genus 1, non-convex);
 * subdivided icospheres with radial noise (closed, star-shaped, non-convex).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -11,7 +12,7 @@ import trimesh
 from hypothesis import strategies as st
 
 import silcount
-from silcount.mesh import Mesh, from_polygons
+from silcount.mesh.model import Mesh, from_polygons
 
 
 @st.composite
@@ -29,7 +30,7 @@ def perturbed_tori(draw) -> Mesh:
     seed = draw(st.integers(0, 2**32 - 1))
     n_major = draw(st.integers(5, 10))
     n_minor = draw(st.integers(3, 6))
-    base = silcount.shapes.torus(1.0, draw(st.floats(0.2, 0.6)), n_major, n_minor)
+    base = silcount.mesh.shapes.torus(1.0, draw(st.floats(0.2, 0.6)), n_major, n_minor)
     rng = np.random.default_rng(seed)
     v = base.vertices + rng.uniform(-0.03, 0.03, size=base.vertices.shape)
     return from_polygons(v, base.faces, name=f"torus{seed}")

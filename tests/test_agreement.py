@@ -7,15 +7,16 @@
 * ``literal`` variants are compared with ``reference`` and their disagreement
   is reported in ``notes``, never hidden.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import convex_hulls, lights_for, mesh_and_light
 
 import silcount
-from strategies import convex_hulls, lights_for, mesh_and_light
 
 EXACT = ("ta", "vnv", "hsd")
 SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

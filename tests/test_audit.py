@@ -1,31 +1,31 @@
-"""`silcount.audit`: mesh statistics, lights, agreement, aggregation, printed formulas, the JSON schema.
+"""`silcount.audit.run`: mesh statistics, lights, agreement, aggregation, printed formulas, the JSON schema.
 
 Expected values are hand counts on tiny meshes (reasoning beside each) or the
 papers' printed formulas typed from the text; none is computed by the code under test.
 """
+
 from __future__ import annotations
 
 import io
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
-
-import silcount
-from silcount import PointLight, DirectionalLight, from_polygons
-from silcount.audit import AuditSettings, random_lights, run_audit, winding_number
-from silcount.commands import report as report_cmd
-from silcount.detectors import DETECTORS
-from silcount.counting import KINDS
-from silcount.formats import render
-from silcount.meshstats import mesh_statistics
-from silcount.progress import Progress
-from pathlib import Path
-
 from meshfiles import TETRA_F, TETRA_V, write
 
+import silcount
+from silcount import DirectionalLight, PointLight, from_polygons
+from silcount.audit.formats import render
+from silcount.audit.run import AuditSettings, random_lights, run_audit, winding_number
+from silcount.cli import report as report_cmd
+from silcount.counting.arithmetic import KINDS
+from silcount.detectors import DETECTORS
+from silcount.mesh.stats import mesh_statistics
+from silcount.progress import progress
+
 REPO = Path(__file__).resolve().parent.parent
-EXACT = ("reference", "ta", "vnv", "hsd")   # detectors whose intended variant must equal the reference everywhere
+EXACT = ("reference", "ta", "vnv", "hsd")  # detectors whose intended variant must equal the reference everywhere
 
 
 def audit(mesh, lights, **kw):
@@ -37,10 +37,10 @@ def audit(mesh, lights, **kw):
 def test_statistics_of_the_tetrahedron_and_quad_cube():
     t = mesh_statistics(silcount.builtin_mesh("tetrahedron"))
     assert (t["vertices"], t["faces"], t["edges"]) == (4, 4, 6)
-    assert (t["euler_characteristic"], t["genus"], t["components"]) == (2, 0, 1)   # 4 - 6 + 4 = 2: a sphere
+    assert (t["euler_characteristic"], t["genus"], t["components"]) == (2, 0, 1)  # 4 - 6 + 4 = 2: a sphere
     c = mesh_statistics(silcount.builtin_mesh("quad_cube"))
     assert (c["vertices"], c["faces"], c["edges"], c["mean_sides"]) == (8, 6, 12, 4.0)
-    assert c["ratios"]["E/F"] == 2.0 and c["paper_ratios"]["E/F"] == 6.0     # 12/6 against the papers' e_n = 6n
+    assert c["ratios"]["E/F"] == 2.0 and c["paper_ratios"]["E/F"] == 6.0  # 12/6 against the papers' e_n = 6n
     assert c["coplanar"]["polygons"] == 6 and c["coplanar"]["mean_sides"] == 4.0
 
 
@@ -48,7 +48,7 @@ def test_triangle_cube_merges_back_into_six_quads():
     # 12 triangles, two per face of the cube, each pair exactly coplanar: 6 polygons of 4 boundary sides
     c = mesh_statistics(silcount.builtin_mesh("triangle_cube"))
     assert c["faces"] == 12 and c["coplanar"]["polygons"] == 6 and c["coplanar"]["mean_sides"] == 4.0
-    assert c["coplanar"]["interior_edges"] == 6          # the six diagonals
+    assert c["coplanar"]["interior_edges"] == 6  # the six diagonals
 
 
 def test_torus_has_genus_one():
@@ -96,7 +96,12 @@ def test_quad_cube_lit_from_above_has_the_top_square_as_silhouette():
     # face, e.g. x = 0.5 with n = (1,0,0), (L - p0) . n = -0.5 < 0), so the silhouette is the top square.
     mesh = silcount.builtin_mesh("quad_cube")
     a = audit(mesh, [PointLight((0, 0, 5))], with_edges=True)
-    top = {((-0.5, -0.5), (-0.5, 0.5)), ((-0.5, -0.5), (0.5, -0.5)), ((-0.5, 0.5), (0.5, 0.5)), ((0.5, -0.5), (0.5, 0.5))}
+    top = {
+        ((-0.5, -0.5), (-0.5, 0.5)),
+        ((-0.5, -0.5), (0.5, -0.5)),
+        ((-0.5, 0.5), (0.5, 0.5)),
+        ((0.5, -0.5), (0.5, 0.5)),
+    }
     for name in set(EXACT) & set(a["detectors"]):
         d = a["detectors"][name]
         assert d["silhouette_edges"] == 4 and d["agrees_with_reference"], name
@@ -153,8 +158,13 @@ def test_paper_cycle_weights_are_the_eesd_papers():
 def test_printed_ta_formula_at_the_quad_cube():
     # EESD 2012 Sec. 5.1, last line: 6n^2 mC + (6n^2 m + mn + 8n)R + (m+10)nM + 8nA + 2mnW, at n = 6, m = 4
     n, m = 6, 4
-    expected = {"add": 8 * n, "mul": (m + 10) * n, "cmp": 6 * n * n * m, "read": 6 * n * n * m + m * n + 8 * n,
-                "write": 2 * m * n}
+    expected = {
+        "add": 8 * n,
+        "mul": (m + 10) * n,
+        "cmp": 6 * n * n * m,
+        "read": 6 * n * n * m + m * n + 8 * n,
+        "write": 2 * m * n,
+    }
     a = audit(silcount.builtin_mesh("quad_cube"), [PointLight((0, 0, 5))], detectors=("ta",))
     f = a["detectors"]["ta"]["formula_printed"]
     assert (f["n"], f["m"]) == (n, m)
@@ -175,8 +185,15 @@ def test_json_schema_keys():
     assert {"silcount_version", "schema", "mesh", "lights", "warnings", "detectors", "per_light"} <= set(doc)
     assert doc["silcount_version"] == silcount.__version__
     for name, d in doc["detectors"].items():
-        assert {"silhouette_edges", "agrees_with_reference", "tallies", "steps", "cycles", "formula_printed",
-                "time_s"} <= set(d), name
+        assert {
+            "silhouette_edges",
+            "agrees_with_reference",
+            "tallies",
+            "steps",
+            "cycles",
+            "formula_printed",
+            "time_s",
+        } <= set(d), name
         for model in ("paper", "true"):
             assert set(KINDS) <= set(d["tallies"][model])
     assert len(doc["per_light"]) == 2 and set(doc["per_light"][0]["detectors"]) == set(doc["detectors"])
@@ -185,19 +202,23 @@ def test_json_schema_keys():
 # ---- progress ------------------------------------------------------------------------------------
 def test_progress_is_silent_unless_enabled_and_slow(monkeypatch):
     quiet = io.StringIO()
-    with Progress(3, "x", enabled=False, stream=quiet) as bar:
-        bar.advance()
+    with progress(3, "x", enabled=False, stream=quiet) as bar:
+        bar.update()
     assert quiet.getvalue() == ""
     fast = io.StringIO()
-    with Progress(3, "x", enabled=True, stream=fast) as bar:   # quicker than the one-second delay
-        bar.advance()
+    with progress(3, "x", enabled=True, stream=fast) as bar:  # quicker than the one-second delay
+        bar.update()
     assert fast.getvalue() == ""
-    monkeypatch.setattr("silcount.progress.DELAY_S", 0.0)
     slow = io.StringIO()
-    with Progress(2, "audit", enabled=True, stream=slow) as bar:
-        bar.advance()
-    assert "audit [" in slow.getvalue() and "1/2" in slow.getvalue() and slow.getvalue().endswith("\r")
-    assert Progress(1, "x", stream=io.StringIO()).enabled is False   # not a terminal: off
+    with progress(2, "audit", enabled=True, stream=slow) as bar:
+        bar.delay = 0.0
+        bar.start_t -= 2.0
+        bar.update()
+        bar.refresh()
+    assert "audit" in slow.getvalue() and "1/2" in slow.getvalue()
+    not_a_terminal = io.StringIO()
+    with progress(1, "x", stream=not_a_terminal) as bar:  # not a terminal: off
+        assert bar.disable
 
 
 # ---- the committed reports -------------------------------------------------------------------------
@@ -221,7 +242,7 @@ def test_real_open_meshes_are_audited_with_warnings(shared_mesh):
         mesh = shared_mesh(name)
         a = audit(mesh, random_lights(mesh, 2), detectors=("reference", "ta"))
         assert a["mesh"]["boundary_edges"] > 0 and any(w.startswith("open mesh") for w in a["warnings"]), name
-        ta = a["detectors"]["ta"]       # agreement on dubious meshes is the detectors' business: reported, not hidden
+        ta = a["detectors"]["ta"]  # agreement on dubious meshes is the detectors' business: reported, not hidden
         assert ta["agrees_with_reference"] == (ta["missed_edges"] == ta["extra_edges"] == 0), name
     # the soup shares no edge at all: every triangle is its own component (data README: 100 triangles)
     assert mesh_statistics(shared_mesh("soup.stl"))["components"] == 100
@@ -233,7 +254,7 @@ def test_euler_characteristic_matches_trimesh_on_real_meshes(shared_mesh):
 
     for name in ("cow.obj", "fandisk.obj"):
         ours = mesh_statistics(shared_mesh(name))
-        theirs = trimesh.load(mesh_dir() / name, process=True)   # trimesh merges vertices by position too
+        theirs = trimesh.load(mesh_dir() / name, process=True)  # trimesh merges vertices by position too
         assert ours["euler_characteristic"] == theirs.euler_number, name
         if ours["closed"] and ours["euler_characteristic"] % 2:
             assert ours["genus"] is None
@@ -241,7 +262,7 @@ def test_euler_characteristic_matches_trimesh_on_real_meshes(shared_mesh):
 
 def test_near_duplicate_vertices_are_reported_and_weldable(tmp_path):
     # One quad corner written twice: z = 0.0 and z = -2.7e-16 (as in the shared featuretype.stl).
-    from silcount.meshstats import mesh_statistics, mesh_warnings
+    from silcount.mesh.stats import mesh_statistics, mesh_warnings
 
     v = [[0, 0, 0.0], [1, 0, 0], [0, 1, 0], [0, 0, -2.7e-16], [0, -1, 0]]
     mesh = silcount.from_polygons(v, [[0, 1, 2], [3, 4, 1]])

@@ -4,6 +4,7 @@ Dubious but usable meshes and lights are audited, with warnings in the report (e
 
 Every bad file is generated here, in tmp_path.
 """
+
 from __future__ import annotations
 
 import io
@@ -15,11 +16,10 @@ from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
-
-from silcount.cli import main
-from silcount.formats import write_atomic
-
 from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
+
+from silcount.audit.formats import write_atomic
+from silcount.cli.main import main
 
 QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
 QUAD_CUBE_F = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -74,32 +74,41 @@ def test_unknown_extension(tmp_path):
     assert_refused(write(tmp_path, "m.xyz", tetra_bytes("obj")), 3, "unknown extension")
 
 
-@pytest.mark.parametrize("name,data,word", [
-    ("trunc.obj", obj_text(TETRA_V, TETRA_F)[:-4], "a face needs at least 3 vertices"),   # cut inside the last face
-    ("corrupt.obj", "v 1 2 x\nf 1 2 3\n", "line 1"),
-    ("trunc.off", "OFF\n4 4 0\n1 1 1\n1 -1 -1\n", "promises 4 vertices and 4 faces"),
-    ("trunc.stl", tetra_bytes("stl")[:-40], "ASCII STL"),
-    ("trunc2.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2 3\n", "truncated ASCII STL"),
-    ("corrupt.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2\n", "vertex needs 3 coordinates"),
-    ("trunc_bin.stl", tetra_bytes("stl_bin")[:-7], "promises 4 triangles"),
-    ("short_bin.stl", b"\x01" * 50, "truncated STL"),
-    ("trunc_bin.ply", tetra_bytes("ply_bin")[:-10], "truncated binary PLY"),
-    ("nomagic.ply", b"plx\nformat ascii 1.0\nend_header\n", "not a PLY file"),
-    ("badformat.ply", tetra_bytes("ply").replace(b"format ascii", b"format weird"), "unknown format"),
-    ("trunc.ply", tetra_bytes("ply")[:-30], "truncated PLY"),
-])
+@pytest.mark.parametrize(
+    "name,data,word",
+    [
+        ("trunc.obj", obj_text(TETRA_V, TETRA_F)[:-4], "a face needs at least 3 vertices"),  # cut inside the last face
+        ("corrupt.obj", "v 1 2 x\nf 1 2 3\n", "line 1"),
+        ("trunc.off", "OFF\n4 4 0\n1 1 1\n1 -1 -1\n", "promises 4 vertices and 4 faces"),
+        ("trunc.stl", tetra_bytes("stl")[:-40], "ASCII STL"),
+        ("trunc2.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2 3\n", "truncated ASCII STL"),
+        ("corrupt.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2\n", "vertex needs 3 coordinates"),
+        ("trunc_bin.stl", tetra_bytes("stl_bin")[:-7], "promises 4 triangles"),
+        ("short_bin.stl", b"\x01" * 50, "truncated STL"),
+        ("trunc_bin.ply", tetra_bytes("ply_bin")[:-10], "truncated binary PLY"),
+        ("nomagic.ply", b"plx\nformat ascii 1.0\nend_header\n", "not a PLY file"),
+        ("badformat.ply", tetra_bytes("ply").replace(b"format ascii", b"format weird"), "unknown format"),
+        ("trunc.ply", tetra_bytes("ply")[:-30], "truncated PLY"),
+    ],
+)
 def test_truncated_or_corrupt_files(tmp_path, name, data, word):
     assert_refused(write(tmp_path, name, data), 3, word)
 
 
-@pytest.mark.parametrize("name,data,word", [
-    ("png.obj", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(40), "binary data"),
-    ("readme.obj", "# Title\n\nSome prose about meshes.\n", "no vertex ('v') or face ('f') statements"),
-    ("json.off", '{"not": "a mesh"}\n', "no OFF header"),
-    ("text.ply", "hello\n", "not a PLY file"),
-    ("text.stl", "hello world, this is not an STL file at all; it is long enough to look binary" * 2,
-     "corrupt or truncated binary STL"),
-])
+@pytest.mark.parametrize(
+    "name,data,word",
+    [
+        ("png.obj", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(40), "binary data"),
+        ("readme.obj", "# Title\n\nSome prose about meshes.\n", "no vertex ('v') or face ('f') statements"),
+        ("json.off", '{"not": "a mesh"}\n', "no OFF header"),
+        ("text.ply", "hello\n", "not a PLY file"),
+        (
+            "text.stl",
+            "hello world, this is not an STL file at all; it is long enough to look binary" * 2,
+            "corrupt or truncated binary STL",
+        ),
+    ],
+)
 def test_a_file_that_is_not_a_mesh(tmp_path, name, data, word):
     assert_refused(write(tmp_path, name, data), 3, word)
 
@@ -113,15 +122,18 @@ def test_nan_or_inf_coordinates(tmp_path, bad):
 
 def test_nan_in_binary_stl(tmp_path):
     data = bytearray(tetra_bytes("stl_bin"))
-    data[84 + 12:84 + 16] = struct.pack("<f", float("nan"))   # first vertex x of the first triangle
+    data[84 + 12 : 84 + 16] = struct.pack("<f", float("nan"))  # first vertex x of the first triangle
     assert_refused(write(tmp_path, "nan.stl", bytes(data)), 4, "NaN or Inf")
 
 
-@pytest.mark.parametrize("name,data", [
-    ("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
-    ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n"),
-    ("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
-])
+@pytest.mark.parametrize(
+    "name,data",
+    [
+        ("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
+        ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n"),
+        ("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
+    ],
+)
 def test_faces_that_index_missing_vertices(tmp_path, name, data):
     assert_refused(write(tmp_path, name, data), 4, "missing vertex" if name.endswith(".obj") else "indexes vertex")
 
@@ -132,11 +144,14 @@ def test_faces_index_missing_vertices_in_ply(tmp_path):
     assert "vertex 7" in err
 
 
-@pytest.mark.parametrize("name,data", [
-    ("verts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
-    ("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"),
-    ("zero.stl", struct.pack("<80sI", b"binary", 0)),
-])
+@pytest.mark.parametrize(
+    "name,data",
+    [
+        ("verts.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+        ("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"),
+        ("zero.stl", struct.pack("<80sI", b"binary", 0)),
+    ],
+)
 def test_zero_faces(tmp_path, name, data):
     assert_refused(write(tmp_path, name, data), 4, "no faces")
 
@@ -166,20 +181,28 @@ def test_too_large_binary_stl_refused_from_its_header_alone(tmp_path):
 
 
 def test_too_large_ply_refused_from_its_header(tmp_path):
-    head = b"ply\nformat binary_little_endian 1.0\nelement vertex 500000\nproperty float x\nproperty float y\n" \
-           b"property float z\nelement face 1000000\nproperty list uchar int vertex_indices\nend_header\n"
+    head = (
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 500000\nproperty float x\nproperty float y\n"
+        b"property float z\nelement face 1000000\nproperty list uchar int vertex_indices\nend_header\n"
+    )
     p = tmp_path / "huge.ply"
-    with open(p, "wb") as fh:          # a sparse file exactly as long as the header's counts need
+    with open(p, "wb") as fh:  # a sparse file exactly as long as the header's counts need
         fh.write(head)
         fh.truncate(len(head) + 500000 * 12 + 1000000 * 13)
     assert_refused(p, 4, "too large", "1000000 faces", extra=("--max-memory", "100M"))
 
 
-@pytest.mark.parametrize("name,data", [
-    ("lying.off", "OFF\n999999999 1 0\n0 0 0\n"),
-    ("lying.ply", b"ply\nformat ascii 1.0\nelement vertex 50000000\nproperty float x\nproperty float y\n"
-                  b"property float z\nelement face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n"),
-])
+@pytest.mark.parametrize(
+    "name,data",
+    [
+        ("lying.off", "OFF\n999999999 1 0\n0 0 0\n"),
+        (
+            "lying.ply",
+            b"ply\nformat ascii 1.0\nelement vertex 50000000\nproperty float x\nproperty float y\n"
+            b"property float z\nelement face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n",
+        ),
+    ],
+)
 def test_header_counts_that_cannot_fit_in_the_file_are_corrupt_not_large(tmp_path, name, data):
     assert_refused(write(tmp_path, name, data), 3, "more than a")
 
@@ -239,13 +262,13 @@ def test_nonmanifold_edges_are_warned(tmp_path):
 
 def test_open_boundaries_are_warned(tmp_path):
     doc = audit_json(write(tmp_path, "open.obj", obj_text(TETRA_V, TETRA_F[:3])))
-    assert doc["mesh"]["boundary_edges"] == 3   # the removed face's three edges
+    assert doc["mesh"]["boundary_edges"] == 3  # the removed face's three edges
     assert "open mesh: 3 boundary edges" in "\n".join(doc["warnings"])
 
 
 def test_inconsistent_winding_is_warned(tmp_path):
     f = TETRA_F.copy()
-    f[3] = f[3][::-1]                           # one face flipped: its 3 edges are traversed twice the same way
+    f[3] = f[3][::-1]  # one face flipped: its 3 edges are traversed twice the same way
     doc = audit_json(write(tmp_path, "flip.obj", obj_text(TETRA_V, f)))
     assert doc["mesh"]["inconsistent_edges"] == 3
     assert "inconsistent winding: 3 edges" in "\n".join(doc["warnings"])
@@ -263,7 +286,7 @@ def test_light_inside_the_mesh_is_warned(tmp_path):
     p = write(tmp_path, "cube.obj", obj_text(QUAD_CUBE_V, QUAD_CUBE_F))
     doc = audit_json(p, "--light", "0.1,0.2,0.3", "--random-lights", "0")
     assert doc["lights"][0]["inside"] is True
-    assert doc["detectors"]["reference"]["silhouette_edges"] == 0   # every face sees its back: no silhouette
+    assert doc["detectors"]["reference"]["silhouette_edges"] == 0  # every face sees its back: no silhouette
     assert "light 0: inside the mesh" in "\n".join(doc["warnings"])
 
 
@@ -286,7 +309,7 @@ def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path):
 
 def test_real_process_prints_one_line_and_no_traceback(tmp_path):
     p = write(tmp_path, "c.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nend_header\n")
-    proc = subprocess.run([sys.executable, "-m", "silcount.cli", "audit", str(p)], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-m", "silcount.cli.main", "audit", str(p)], capture_output=True, text=True)
     assert proc.returncode == 3
     assert proc.stdout == "" and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
     assert str(p) in proc.stderr

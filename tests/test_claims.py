@@ -3,6 +3,7 @@
 Verdicts are never typed: the test that edits a copy of models/ shows that a
 verdict follows the data (a corrected table cell turns FAILS into HOLDS).
 """
+
 from __future__ import annotations
 
 import json
@@ -11,17 +12,28 @@ from pathlib import Path
 
 import pytest
 
-from silcount import claims, formulas, models, projection, tables
-from silcount.cli import main
+from silcount.cli.main import main
+from silcount.counting import paper as models
+from silcount.papers import claims, formulas, projection, tables
 
 ROOT = Path(__file__).resolve().parent.parent
 KEYS = {"id", "paper", "section", "statement", "printed", "rederived", "measured", "verdict", "reason"}
 
 
 def _clear_caches():
-    for fn in (models.load, models.step_costs, formulas.charged, formulas.rederive, formulas.forms,
-               formulas.printed_lines, formulas.rederivation_differences, claims._cycles_cached,
-               projection.analyse, tables.cells, tables._measured):
+    for fn in (
+        models.load,
+        models.step_costs,
+        formulas.charged,
+        formulas.rederive,
+        formulas.forms,
+        formulas.printed_lines,
+        formulas.rederivation_differences,
+        claims._cycles_cached,
+        projection.analyse,
+        tables.cells,
+        tables._measured,
+    ):
         fn.cache_clear()
 
 
@@ -43,8 +55,13 @@ def test_every_models_claim_and_cell_is_reported(all_claims):
     for paper_file in claims.PAPER_FILES:
         for c in models.load(paper_file).get("claims", []):
             assert c["id"] in keys
-    n_cells = sum(len(r["cells"]) for pf in claims.PAPER_FILES for t in models.load(pf).get("tables", [])
-                  for r in t["rows"] if "cells" in r)
+    n_cells = sum(
+        len(r["cells"])
+        for pf in claims.PAPER_FILES
+        for t in models.load(pf).get("tables", [])
+        for r in t["rows"]
+        if "cells" in r
+    )
     assert sum(c.key.startswith("EESD Table") for c in all_claims) == n_cells == 30
 
 
@@ -95,5 +112,6 @@ def test_committed_reports_are_regenerated(tmp_path, name):
     tmp_path = tmp_path / "claims"
     assert [p.name for p in written] == ["claims.txt", "claims.md", "claims.json"]
     committed = ROOT / "reports" / "claims" / name
-    assert committed.read_text() == (tmp_path / name).read_text(), \
+    assert committed.read_text() == (tmp_path / name).read_text(), (
         "reports/claims is stale: run `silcount report` (or claims.report('reports'))"
+    )

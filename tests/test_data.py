@@ -1,11 +1,12 @@
-"""The committed built-in meshes in data/ load back to the meshes silcount.shapes makes."""
+"""The committed built-in meshes in data/ load back to the meshes silcount.mesh.shapes makes."""
+
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import silcount
-from silcount.shapes import BUILTIN
+from silcount.mesh.shapes import BUILTIN
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

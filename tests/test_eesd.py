@@ -1,27 +1,29 @@
 """EESD: hand-counted tallies, naive == fast, intended vs reference (convex: equal; tori: subset)."""
+
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import closed_meshes, convex_hulls, lights_for, perturbed_tori
 
 import silcount
-from strategies import closed_meshes, convex_hulls, lights_for, perturbed_tori
 
 # ``true`` costs counted by reading eesd.py's counted routines (point light):
 # extend: M = (v1+v2)*0.5 (3A 3M), e = v2-v1 (3A), d = M-L (3A), w = d x e (6M 3A), c-M (3A),
 #   side = (c-M).w (3M 2A), side > 0 (1C), e.e (3M 2A), w.w (3M 2A), ee/ww (1 div), sqrt (1),
 #   EPS * root * sgn (2M), P = M + w*scale (3M 3A): 24A 23M 1C 1div 1sqrt.
 EXTEND = {"add": 24, "mul": 23, "cmp": 1, "div": 1, "sqrt": 1}
-RAY = {"add": 3}                                # D = P - L
+RAY = {"add": 3}  # D = P - L
 # Moller-Trumbore: e1, e2 (6A), p = D x e2 (6M 3A), det (3M 2A), 1/det (1 div), s = O-a (3A),
 # u (3M 2A + 1M), q = s x e1 (6M 3A), v (3M 2A + 1M), t (3M 2A + 1M), u+v (1A), and the six
 # compares det != 0, u >= 0, v >= 0, u+v <= 1, t > t_min, t < t_max: 24A 27M 1div 6C.
 TRIANGLE = {"add": 24, "mul": 27, "div": 1, "cmp": 6}
-EDGE_READS = 2 + 1 + 9 + 3        # the edge's two vertex indices, f1's far corner, 9 coordinates, the light
-FACE_READS = 10                   # face_start[f], [f+1]; p0 and p1 (index + 3 coordinates each)
-TRIANGLE_READS = 4                # the next fan corner (index + 3 coordinates)
+EDGE_READS = 2 + 1 + 9 + 3  # the edge's two vertex indices, f1's far corner, 9 coordinates, the light
+FACE_READS = 10  # face_start[f], [f+1]; p0 and p1 (index + 3 coordinates each)
+TRIANGLE_READS = 4  # the next fan corner (index + 3 coordinates)
 # literal plane of a face: face_start, 3 corner indices, 9 coordinates (13R); e1, e2 (6A);
 # n = e1 x e2 (6M 3A); d = 0 - n.p0 (3M 2A + 1A); 4 writes of the plane table.
 PLANE = {"read": 13, "add": 12, "mul": 9, "write": 4}
-PAIR_LITERAL = {"read": 4, "mul": 3, "add": 3, "cmp": 1}     # a, b, c, d; aPx+bPy+cPz+d == 0
+PAIR_LITERAL = {"read": 4, "mul": 3, "add": 3, "cmp": 1}  # a, b, c, d; aPx+bPy+cPz+d == 0
 
 
 def tally(*parts):
@@ -50,8 +52,16 @@ def test_tetrahedron_intended_by_hand():
     assert res.edge_ids.tolist() == [0, 1, 3] and res.notes["missed_edges"] == 0
     # E = 6, F = T = 4: 24 edge-face pairs, 24 triangle tests
     assert res.steps == {"extend": 6, "ray": 6, "intersection": 24, "triangle_test": 24, "check_hits": 6, "add": 3}
-    expected = tally((6, EXTEND), (6, RAY), (6, {"read": EDGE_READS}), (24, {"read": FACE_READS}),
-                     (24, TRIANGLE), (24, {"read": TRIANGLE_READS, "add": 1}), (6, {"cmp": 1}), (3, {"write": 1}))
+    expected = tally(
+        (6, EXTEND),
+        (6, RAY),
+        (6, {"read": EDGE_READS}),
+        (24, {"read": FACE_READS}),
+        (24, TRIANGLE),
+        (24, {"read": TRIANGLE_READS, "add": 1}),
+        (6, {"cmp": 1}),
+        (3, {"write": 1}),
+    )
     assert res.tally["true"] == expected
     assert expected == {"add": 762, "mul": 786, "cmp": 156, "read": 426, "write": 3, "div": 30, "sqrt": 6}
     # paper: extend 6(3A+1R+1W) + ray 6(3A+3M+1R+1W) + intersection 24(3M+3A+1C) + add 3(1A)
@@ -63,10 +73,17 @@ def test_quad_cube_intended_by_hand():
     m = silcount.builtin_mesh("quad_cube")
     res = both_engines(m, silcount.PointLight((0.0, 0.0, 10.0)), "intended")
     assert {tuple(e) for e in res.edges.tolist()} == {(1, 3), (1, 5), (3, 7), (5, 7)}
-    assert res.steps == {"extend": 12, "ray": 12, "intersection": 72, "triangle_test": 144, "check_hits": 12,
-                         "add": 4}
-    expected = tally((12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, {"read": FACE_READS}),
-                     (144, TRIANGLE), (144, {"read": TRIANGLE_READS, "add": 1}), (12, {"cmp": 1}), (4, {"write": 1}))
+    assert res.steps == {"extend": 12, "ray": 12, "intersection": 72, "triangle_test": 144, "check_hits": 12, "add": 4}
+    expected = tally(
+        (12, EXTEND),
+        (12, RAY),
+        (12, {"read": EDGE_READS}),
+        (72, {"read": FACE_READS}),
+        (144, TRIANGLE),
+        (144, {"read": TRIANGLE_READS, "add": 1}),
+        (12, {"cmp": 1}),
+        (4, {"write": 1}),
+    )
     assert res.tally["true"] == expected
     assert expected == {"add": 3924, "mul": 4164, "cmp": 888, "read": 1476, "write": 4, "div": 156, "sqrt": 12}
     assert res.tally["paper"] == {"add": 36 + 36 + 216 + 4, "mul": 36 + 216, "cmp": 72, "read": 24, "write": 24}
@@ -80,8 +97,9 @@ def test_quad_cube_literal_by_hand():
     assert res.n_edges == 12 and res.notes["S_length"] == 72 and res.notes["duplicates_in_S"] == 60
     assert res.notes["on_plane_pairs"] == 0 and res.notes["extra_edges"] == 8
     assert res.steps == {"plane": 6, "extend": 12, "ray": 12, "intersection": 72, "add": 72}
-    expected = tally((6, PLANE), (12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, PAIR_LITERAL),
-                     (72, {"write": 1}))
+    expected = tally(
+        (6, PLANE), (12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, PAIR_LITERAL), (72, {"write": 1})
+    )
     assert res.tally["true"] == expected
     assert res.tally["paper"] == {"add": 36 + 36 + 216 + 72, "mul": 36 + 216, "cmp": 72, "read": 24, "write": 24}
     # Directional light straight down: w = d x e has no z component, so each of the 8 horizontal
@@ -90,8 +108,9 @@ def test_quad_cube_literal_by_hand():
     res = both_engines(m, silcount.DirectionalLight((0.0, 0.0, 1.0)), "literal")
     assert res.notes["on_plane_pairs"] == 8 and res.steps["add"] == 64 and res.n_edges == 12
     # directional: extend skips d = M - L (21 A), the ray is the line through P (no operation)
-    assert res.tally["true"] == tally((6, PLANE), (12, {**EXTEND, "add": 21}), (12, {"read": EDGE_READS}),
-                                      (72, PAIR_LITERAL), (64, {"write": 1}))
+    assert res.tally["true"] == tally(
+        (6, PLANE), (12, {**EXTEND, "add": 21}), (12, {"read": EDGE_READS}), (72, PAIR_LITERAL), (64, {"write": 1})
+    )
 
 
 small_meshes = closed_meshes().filter(lambda m: m.n_faces <= 80)
@@ -169,8 +188,10 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
 
     mesh = shared_mesh("cow.obj")
     rng = np.random.default_rng(3)
-    for light in (silcount.PointLight(mesh.centre + 2.5 * mesh.bounding_radius * np.array([0.6, 0.7, -0.4])),
-                  silcount.DirectionalLight((-0.3, 1.0, 0.2))):
+    for light in (
+        silcount.PointLight(mesh.centre + 2.5 * mesh.bounding_radius * np.array([0.6, 0.7, -0.4])),
+        silcount.DirectionalLight((-0.3, 1.0, 0.2)),
+    ):
         res = silcount.detect(mesh, light, "eesd")
         ref = silcount.detect(mesh, light, "reference")
         edges = np.union1d(ref.edge_ids, rng.choice(mesh.n_edges, 500, replace=False))
@@ -178,9 +199,9 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
         tracer, T = _tracer(mesh), _mesh_data(mesh)["tri_idx"].shape[0]
         escapes = np.zeros(edges.size, dtype=bool)
         for lo in range(0, edges.size, 200):
-            e = np.repeat(edges[lo:lo + 200], T)
+            e = np.repeat(edges[lo : lo + 200], T)
             tri = np.tile(np.arange(T), e.size // T)
             hit = tracer.hits_triangle(origins[e], directions[e], tri, t_min, t_max)
-            escapes[lo:lo + 200] = ~hit.reshape(-1, T).any(axis=1)
+            escapes[lo : lo + 200] = ~hit.reshape(-1, T).any(axis=1)
         assert np.array_equal(np.intersect1d(res.edge_ids, edges), edges[escapes])
         assert 0 < res.n_edges < ref.n_edges

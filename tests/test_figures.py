@@ -1,11 +1,12 @@
 """Figures: written, deterministic, and equal to the committed copies."""
+
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
 
-from silcount import figures
+from silcount.papers import figures
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -30,5 +31,6 @@ def test_svg_is_deterministic_and_committed(generated):
     for stem in ("operations", "cycles", "growth", "growth_by_kind"):
         svg = (out / f"{stem}.svg").read_text()
         assert "<dc:date>" not in svg
-        assert svg == (ROOT / "reports" / "figures" / f"{stem}.svg").read_text(), \
+        assert svg == (ROOT / "reports" / "figures" / f"{stem}.svg").read_text(), (
             "reports/figures is stale: run `silcount figures --out reports/figures`"
+        )

@@ -6,18 +6,24 @@ HSD paper Sec. VI); TA's add/delete branch counts are checked by running the
 array-S algorithm on real closed meshes; printed lines are re-parsed from the
 text with sympy's implicit multiplication.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
-from sympy.parsing.sympy_parser import (convert_xor, implicit_multiplication_application, parse_expr,
-                                        split_symbols, standard_transformations)
+from sympy.parsing.sympy_parser import (
+    convert_xor,
+    implicit_multiplication_application,
+    parse_expr,
+    split_symbols,
+    standard_transformations,
+)
 
 import silcount
-from silcount import formulas as F
-from silcount import models
-from silcount.counting import KINDS
+from silcount.counting import paper as models
+from silcount.counting.arithmetic import KINDS
+from silcount.papers import formulas as F
 
 MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
 
@@ -37,12 +43,12 @@ def brute_printed_charge(model: str, f: int, e: int, m: int) -> dict[str, int]:
     total = dict.fromkeys(KINDS, 0)
     algorithm = models.load(model)["algorithm"]
     if algorithm in ("ta", "hsd"):
-        sides = m if algorithm == "ta" else 1          # HSD's printed sum: one side per polygon
+        sides = m if algorithm == "ta" else 1  # HSD's printed sum: one side per polygon
         for _face in range(f):
             _add(total, model, "visibility", e)
             for _side in range(sides):
                 _add(total, model, "search_S", e)
-                _add(total, model, "delete", e)     # the sums charge the delete branch, never add
+                _add(total, model, "delete", e)  # the sums charge the delete branch, never add
     elif algorithm == "vnv":
         for _edge in range(e):
             for _face in range(f):
@@ -121,11 +127,13 @@ def test_paper_cycle_totals_by_hand():
 
 def _ta_branch_counts(mesh, light):
     """Run TA's array S (starting empty) over light-facing faces; count adds and deletes."""
-    facing = silcount.lights.facing_values(mesh.face_p0, mesh.face_normals, light) > 0.0  # independent of the detectors
+    facing = (
+        silcount.mesh.lights.facing_values(mesh.face_p0, mesh.face_normals, light) > 0.0
+    )  # independent of the detectors
     S: list[tuple[int, int]] = []
     adds = deletes = 0
     for p in np.flatnonzero(facing):
-        corners = mesh.corners[mesh.face_start[p]:mesh.face_start[p + 1]]
+        corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]]
         for a, b in zip(corners, np.roll(corners, -1)):
             if (b, a) in S:
                 S.remove((b, a))
@@ -141,20 +149,28 @@ def test_ta_branch_fractions_match_simulation(name):
     mesh = silcount.builtin_mesh(name)
     light = silcount.PointLight(tuple(mesh.centre + np.array([2.0, 3.0, 5.0]) * mesh.bounding_radius))
     adds, deletes, visible, sil = _ta_branch_counts(mesh, light)
-    subs = {F.f_n: mesh.n_faces, F.e_n: mesh.n_edges, F.m: sp.Rational(mesh.n_sides, mesh.n_faces),
-            F.v: sp.Rational(visible, mesh.n_faces), F.s: sp.Rational(sil, mesh.n_edges)}
+    subs = {
+        F.f_n: mesh.n_faces,
+        F.e_n: mesh.n_edges,
+        F.m: sp.Rational(mesh.n_sides, mesh.n_faces),
+        F.v: sp.Rational(visible, mesh.n_faces),
+        F.s: sp.Rational(sil, mesh.n_edges),
+    }
     assert F.step_runs("eesd2012-ta", "add")[1].subs(subs) == adds
     assert F.step_runs("eesd2012-ta", "delete")[1].subs(subs) == deletes
     assert F.step_runs("eesd2012-ta", "search_S")[1].subs(subs) == adds + deletes
 
 
-@pytest.mark.parametrize("kernel, expected", [
-    ("dot", {"mul": 3, "add": 2}),                 # a0b0 + a1b1 + a2b2
-    ("vector_add", {"add": 3}),
-    ("ray_point", {"mul": 3, "add": 3}),          # x0 + t d
-    ("light_vector", {"add": 3}),                 # L - p0
-    ("normal_from_corners", {"add": 9, "mul": 6}),  # 2 differences (6A) + cross product (6M + 3A)
-])
+@pytest.mark.parametrize(
+    "kernel, expected",
+    [
+        ("dot", {"mul": 3, "add": 2}),  # a0b0 + a1b1 + a2b2
+        ("vector_add", {"add": 3}),
+        ("ray_point", {"mul": 3, "add": 3}),  # x0 + t d
+        ("light_vector", {"add": 3}),  # L - p0
+        ("normal_from_corners", {"add": 9, "mul": 6}),  # 2 differences (6A) + cross product (6M + 3A)
+    ],
+)
 def test_kernel_costs_by_hand(kernel, expected):
     assert F.kernel_cost(kernel) == expected
 

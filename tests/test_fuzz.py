@@ -3,6 +3,7 @@
 Every crash hypothesis finds is fixed and its input kept in ``tests/regressions/``
 (replayed by :func:`test_regressions_load_cleanly`).
 """
+
 from __future__ import annotations
 
 import io
@@ -12,16 +13,20 @@ from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
-
-from silcount import SilcountError, load_mesh
-from silcount.cli import main
-from silcount.mesh import Mesh
-
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from meshfiles import EXT, FMTS, tetra_bytes
 
+from silcount import SilcountError, load_mesh
+from silcount.cli.main import main
+from silcount.mesh.model import Mesh
+
 REGRESSIONS = Path(__file__).parent / "regressions"
-FUZZ = settings(max_examples=int(os.environ.get("SILCOUNT_FUZZ_EXAMPLES", "60")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = settings(
+    max_examples=int(os.environ.get("SILCOUNT_FUZZ_EXAMPLES", "60")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 
 
 def _load_or_refuse(ext: str, data: bytes) -> Mesh | SilcountError:
@@ -48,10 +53,14 @@ def mutated(draw, fmt: str) -> bytes:
         elif op == "truncate":
             del data[i:]
         elif op == "insert":
-            data[i:i] = draw(st.binary(min_size=1, max_size=8) | st.sampled_from(
-                [b"nan", b"-1", b"1e308", b"99999999999999999999", b" ", b"\n", b"\x00", b"f 1 2 3\n", b"inf"]))
+            data[i:i] = draw(
+                st.binary(min_size=1, max_size=8)
+                | st.sampled_from(
+                    [b"nan", b"-1", b"1e308", b"99999999999999999999", b" ", b"\n", b"\x00", b"f 1 2 3\n", b"inf"]
+                )
+            )
         elif data:
-            del data[i:i + draw(st.integers(1, 16))]
+            del data[i : i + draw(st.integers(1, 16))]
     return bytes(data)
 
 
@@ -69,9 +78,12 @@ def test_mutated_files_never_crash_the_loader(fmt, data):
     _load_or_refuse(EXT[fmt], data.draw(mutated(fmt)))
 
 
-@settings(max_examples=int(os.environ.get("SILCOUNT_FUZZ_CLI_EXAMPLES", "25")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(fmt=st.sampled_from(FMTS), data=st.data(),
-       light=st.text(alphabet="0123456789,.-eEinfa ", max_size=12))
+@settings(
+    max_examples=int(os.environ.get("SILCOUNT_FUZZ_CLI_EXAMPLES", "25")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(fmt=st.sampled_from(FMTS), data=st.data(), light=st.text(alphabet="0123456789,.-eEinfa ", max_size=12))
 def test_cli_never_shows_a_traceback(fmt, data, light):
     blob = data.draw(mutated(fmt))
     out, err_buf = io.StringIO(), io.StringIO()
@@ -79,9 +91,24 @@ def test_cli_never_shows_a_traceback(fmt, data, light):
         p = Path(d) / f"fuzz{EXT[fmt]}"
         p.write_bytes(blob)
         try:
-            rc = main(["audit", str(p), "--light", light, "--random-lights", "1", "--detectors", "reference",
-                       "--format", "json", "--max-memory", "256M", "--quiet"])
-        except SystemExit as exc:   # argparse's own one-line usage errors (e.g. "--light -E")
+            rc = main(
+                [
+                    "audit",
+                    str(p),
+                    "--light",
+                    light,
+                    "--random-lights",
+                    "1",
+                    "--detectors",
+                    "reference",
+                    "--format",
+                    "json",
+                    "--max-memory",
+                    "256M",
+                    "--quiet",
+                ]
+            )
+        except SystemExit as exc:  # argparse's own one-line usage errors (e.g. "--light -E")
             rc = exc.code
     err = err_buf.getvalue()
     assert rc in (0, 2, 3, 4)

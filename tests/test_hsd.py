@@ -1,16 +1,16 @@
 """HSD: the exact coplanar merge, hand-counted tallies, the printed sum, naive == fast, agreement,
 and the failure of a loose ("facets") merge on a scanned mesh."""
+
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-import silcount
-from silcount import models
-from silcount.coplanar import merge
-from silcount.mesh import from_polygons
-
 from strategies import closed_meshes, lights_for
 from test_ta import any_meshes
+
+import silcount
+from silcount.counting import paper as models
+from silcount.mesh.coplanar import merge
+from silcount.mesh.model import from_polygons
 
 SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -61,8 +61,13 @@ def test_triangle_cube_by_hand():
         assert res.steps == {"visibility": 6, "search_S": 4, "delete": 0, "add": 4, "shift": 0}
         # true: 6 polygons x (1 R for the representative + VIS_POINT); 1 facing polygon (2 R);
         # 4 sides (8 R, 4 M, 4 A); 6 examined (6 R, 6 C); 4 adds (4 M, 8 A, 4 W)
-        assert res.tally["true"] == {"read": 6 + 96 + 2 + 8 + 6, "add": 84 + 4 + 8, "mul": 54 + 4 + 4,
-                                     "cmp": 6 + 6, "write": 4}
+        assert res.tally["true"] == {
+            "read": 6 + 96 + 2 + 8 + 6,
+            "add": 84 + 4 + 8,
+            "mul": 54 + 4 + 4,
+            "cmp": 6 + 6,
+            "write": 4,
+        }
         # paper (HSD 6.3, polygon mesh f_n = 6, e_n = 12): 6 x (8A 10M 1C 8R); 4 searches x
         # (12C 12R 1M); 4 adds x (1R 3W) as annotated in Sec. 6.1
         assert res.tally["paper"] == {"add": 48, "mul": 64, "cmp": 6 + 48, "read": 48 + 48 + 4, "write": 12}
@@ -78,8 +83,13 @@ def test_quad_cube_by_hand():
         assert res.notes["merge"]["polygons"] == 6 and res.notes["merge"]["interior_edges"] == 0
         assert res.steps == {"visibility": 6, "search_S": 4, "delete": 0, "add": 4, "shift": 0}
         # true: 6 x (1 R + VIS_POINT); 2 R; 4 sides (8 R, 4 M, 4 A); 6 examined (6 R, 6 C); 4 adds (4 M, 8 A, 4 W)
-        assert res.tally["true"] == {"read": 6 + 96 + 2 + 8 + 6, "add": 84 + 4 + 8, "mul": 54 + 4 + 4,
-                                     "cmp": 6 + 6, "write": 4}
+        assert res.tally["true"] == {
+            "read": 6 + 96 + 2 + 8 + 6,
+            "add": 84 + 4 + 8,
+            "mul": 54 + 4 + 4,
+            "cmp": 6 + 6,
+            "write": 4,
+        }
         # paper (HSD 6.3, f_n = 6, e_n = 12): 6 x (8A 10M 1C 8R); 4 x (12C 12R 1M); 4 adds x (1R 3W)
         assert res.tally["paper"] == {"add": 48, "mul": 64, "cmp": 54, "read": 100, "write": 12}
 
@@ -93,12 +103,16 @@ def test_tetrahedron_by_hand():
         res = silcount.detect(m, light, "hsd", engine=engine)
         assert res.edges.tolist() == [[0, 1], [0, 2], [1, 2]]
         assert res.steps == {"visibility": 4, "search_S": 9, "delete": 3, "add": 6, "shift": 8}
-        assert res.tally["true"] == {"read": 4 + 64 + 6 + 18 + 18 + 8, "add": 56 + 9 + 3 + 12,
-                                     "mul": 36 + 9 + 6, "cmp": 4 + 18, "write": 8 + 6}
+        assert res.tally["true"] == {
+            "read": 4 + 64 + 6 + 18 + 18 + 8,
+            "add": 56 + 9 + 3 + 12,
+            "mul": 36 + 9 + 6,
+            "cmp": 4 + 18,
+            "write": 8 + 6,
+        }
         # paper (hsd2011-hsd, f_n = 4, e_n = 6): 4 x (8A 10M 1C 8R); 9 x (6C 6R 1M); 3 deletes x
         # (1R 2W); 6 adds x (1R 3W), the HSD paper's add annotation "1 write+1 read+2 write"
-        assert res.tally["paper"] == {"add": 32, "mul": 40 + 9, "cmp": 4 + 54, "read": 32 + 54 + 3 + 6,
-                                      "write": 6 + 18}
+        assert res.tally["paper"] == {"add": 32, "mul": 40 + 9, "cmp": 4 + 54, "read": 32 + 54 + 3 + 6, "write": 6 + 18}
 
 
 def test_paper_worst_case_reproduces_printed_sum():
@@ -116,11 +130,15 @@ def _same(a, b):
 
 
 @SETTINGS
-@given(data=st.data(), variant=st.sampled_from(["intended", "literal"]),
-       kind=st.sampled_from(["closed", "any", "cube48"]))
+@given(
+    data=st.data(), variant=st.sampled_from(["intended", "literal"]), kind=st.sampled_from(["closed", "any", "cube48"])
+)
 def test_naive_equals_fast(data, variant, kind):
-    mesh = {"closed": lambda: data.draw(closed_meshes()), "any": lambda: data.draw(any_meshes()),
-            "cube48": _subdivided_cube}[kind]()
+    mesh = {
+        "closed": lambda: data.draw(closed_meshes()),
+        "any": lambda: data.draw(any_meshes()),
+        "cube48": _subdivided_cube,
+    }[kind]()
     light = data.draw(lights_for(mesh))
     _same(silcount.detect(mesh, light, "hsd", variant, "naive"), silcount.detect(mesh, light, "hsd", variant, "fast"))
 
@@ -137,17 +155,21 @@ def test_intended_equals_reference(data):
 
 def test_subdivided_cube_merges_back_to_six_squares():
     mg = merge(_subdivided_cube(), "tight")
-    assert mg.n_polygons == 6 and mg.n_polygon_edges == 24    # each cube edge is split in two
+    assert mg.n_polygons == 6 and mg.n_polygon_edges == 24  # each cube edge is split in two
 
 
 def test_featuretype_equals_reference(shared_mesh):
     m = shared_mesh("featuretype.stl")
     mg = merge(m, "tight")
-    assert mg.n_polygons < m.n_faces // 2                     # a CAD part: many coplanar faces
+    assert mg.n_polygons < m.n_faces // 2  # a CAD part: many coplanar faces
     rng = np.random.default_rng(7)
     for k in range(6):
         d = rng.normal(size=3)
-        light = silcount.DirectionalLight(d) if k % 2 else silcount.PointLight(m.centre + 3 * m.bounding_radius * d / np.linalg.norm(d))
+        light = (
+            silcount.DirectionalLight(d)
+            if k % 2
+            else silcount.PointLight(m.centre + 3 * m.bounding_radius * d / np.linalg.norm(d))
+        )
         hsd = silcount.detect(m, light, "hsd")
         ref = silcount.detect(m, light, "reference")
         assert np.array_equal(hsd.edges, ref.edges) and np.array_equal(hsd.oriented, ref.oriented)

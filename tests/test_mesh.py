@@ -1,9 +1,10 @@
 """The mesh model: welding, the edge table, classification (counted by hand)."""
+
 import numpy as np
 import pytest
 
 import silcount
-from silcount.mesh import from_polygons
+from silcount.mesh.model import from_polygons
 
 
 def test_quad_cube_counts():

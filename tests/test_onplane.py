@@ -1,7 +1,8 @@
 """zeros_per_point against every point-plane pair evaluated with numpy."""
+
 import numpy as np
 
-from silcount.onplane import zeros_per_point
+from silcount.detectors.onplane import zeros_per_point
 
 
 def brute_force(points, planes):
@@ -27,7 +28,7 @@ def test_grid_points_on_axis_planes_and_random_planes():
     got = zeros_per_point(pts, planes)
     expected = brute_force(pts, planes)
     assert np.array_equal(got, expected)
-    assert expected.sum() >= 12 * 81                       # every axis plane holds a 9x9 layer
+    assert expected.sum() >= 12 * 81  # every axis plane holds a 9x9 layer
     assert got[-1] == 0
 
 

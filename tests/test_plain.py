@@ -1,10 +1,11 @@
 """The uncounted kernels that time each algorithm's real work return the detectors' own edges."""
+
 import numpy as np
 from hypothesis import HealthCheck, given, settings
+from strategies import mesh_and_light
 
 import silcount
 from silcount.detectors.plain import PLAIN, plain_edge_ids
-from strategies import mesh_and_light
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -4,12 +4,13 @@ The symbolic verdicts of silcount/projection.py are checked here numerically,
 with plain numpy and random configurations: the ray from L through P meets
 the plane N.(X - C) = 0 at L + N.(C-L)/N.(P-L) (P - L).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from silcount import projection
+from silcount.papers import projection
 
 
 def _printed_new_pixel(L, N, P, E, D):

@@ -1,8 +1,9 @@
 """RayTracer against an independent brute-force solver and against hand-made cases."""
+
 import numpy as np
 import pytest
 
-from silcount.raytrace import RayTracer
+from silcount.mesh.raytrace import RayTracer
 
 
 def brute_force(tris, origins, directions, t_min, t_max):
@@ -18,7 +19,7 @@ def brute_force(tris, origins, directions, t_min, t_max):
     best_i = np.full(R, -1)
     margin = np.full(R, np.inf)
     for r in range(R):
-        A = np.stack([-np.broadcast_to(directions[r], (T, 3)), e1, e2], axis=2)   # (T, 3, 3) columns
+        A = np.stack([-np.broadcast_to(directions[r], (T, 3)), e1, e2], axis=2)  # (T, 3, 3) columns
         ok = np.abs(np.linalg.det(A)) > 1e-12
         sol = np.full((T, 3), np.nan)
         sol[ok] = np.linalg.solve(A[ok], (origins[r] - a[ok])[:, :, None])[:, :, 0]
@@ -37,7 +38,7 @@ def test_random_triangles_match_brute_force(seed):
     centres = rng.uniform(-1, 1, size=(300, 1, 3))
     tris = centres + rng.normal(scale=0.3, size=(300, 3, 3))
     origins = rng.uniform(-2, 2, size=(400, 3))
-    directions = rng.normal(size=(400, 3)) * rng.uniform(0.1, 3.0, size=(400, 1))   # not unit
+    directions = rng.normal(size=(400, 3)) * rng.uniform(0.1, 3.0, size=(400, 1))  # not unit
     t_min, t_max = 0.05, 2.5
     rt = RayTracer(tris)
     t, i = rt.first_hit(origins, directions, t_min, t_max)
@@ -46,7 +47,7 @@ def test_random_triangles_match_brute_force(seed):
     assert clear.mean() > 0.95
     assert np.array_equal(i[clear], bi[clear])
     assert np.allclose(t[clear], bt[clear], rtol=1e-9) or np.array_equal(t[clear], bt[clear])
-    assert (i >= 0).sum() > 50 and (i < 0).sum() > 50            # both outcomes exercised
+    assert (i >= 0).sum() > 50 and (i < 0).sum() > 50  # both outcomes exercised
     assert np.array_equal(rt.any_hit(origins, directions, t_min, t_max)[clear], (bi >= 0)[clear])
 
 
@@ -56,13 +57,13 @@ def test_nearest_hit_and_t_is_in_units_of_direction():
     tri_hi = [[-1, -1, 3], [1, -1, 3], [0, 1, 3]]
     rt = RayTracer(np.array([tri_hi, tri_lo], dtype=float))
     t, i = rt.first_hit([[0, 0, 0]], [[0, 0, 2]])
-    assert i.tolist() == [1] and t.tolist() == [0.5]                 # z = 1 at t = 1/2
-    t, i = rt.first_hit([[0, 0, 0]], [[0, 0, 2]], t_min=0.5)         # open range: z = 1 excluded
+    assert i.tolist() == [1] and t.tolist() == [0.5]  # z = 1 at t = 1/2
+    t, i = rt.first_hit([[0, 0, 0]], [[0, 0, 2]], t_min=0.5)  # open range: z = 1 excluded
     assert i.tolist() == [0] and t.tolist() == [1.5]
     assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], t_max=0.5).tolist() == [False]
     assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], t_max=0.5000001).tolist() == [True]
-    assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], ignore=[1]).tolist() == [True]      # the upper one
-    assert rt.any_hit([[0, 0, 0]], [[0, 0, -2]]).tolist() == [False]                # pointing away
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, 2]], ignore=[1]).tolist() == [True]  # the upper one
+    assert rt.any_hit([[0, 0, 0]], [[0, 0, -2]]).tolist() == [False]  # pointing away
     assert rt.any_hit([[0, 0, 0]], [[0, 0, -2]], t_min=-np.inf).tolist() == [True]  # the whole line
 
 
@@ -96,5 +97,13 @@ def test_per_ray_ranges_and_hits_triangle():
     tris = np.array([[[-1, -1, 1], [1, -1, 1], [0, 1, 1]]], dtype=float)
     rt = RayTracer(tris)
     o, d = np.zeros((3, 3)), np.tile([0.0, 0.0, 1.0], (3, 1))
-    assert rt.any_hit(o, d, t_min=np.array([0.0, 1.0, 0.5]), t_max=np.array([2.0, 2.0, 0.9])).tolist() == [True, False, False]
-    assert rt.hits_triangle(o, d, np.zeros(3, dtype=int), t_max=np.array([2.0, 1.0, 1.5])).tolist() == [True, False, True]
+    assert rt.any_hit(o, d, t_min=np.array([0.0, 1.0, 0.5]), t_max=np.array([2.0, 2.0, 0.9])).tolist() == [
+        True,
+        False,
+        False,
+    ]
+    assert rt.hits_triangle(o, d, np.zeros(3, dtype=int), t_max=np.array([2.0, 1.0, 1.5])).tolist() == [
+        True,
+        False,
+        True,
+    ]

@@ -1,9 +1,10 @@
 """The reference detector, checked against silhouettes worked out by hand."""
+
 import numpy as np
 from hypothesis import given, settings
+from strategies import mesh_and_light
 
 import silcount
-from strategies import mesh_and_light
 
 
 def test_quad_cube_light_on_axis_sees_square_ring():

@@ -1,12 +1,13 @@
 """`silcount render` and `silcount compare` from the command line: outputs, exit codes, errors."""
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from silcount.cli import main
-from silcount.commands.render import shared_scene_dir
+from silcount.cli.main import main
+from silcount.cli.render import shared_scene_dir
 from silcount.render.masks import write_mask
 
 
@@ -19,15 +20,32 @@ def scene_path(name):
 
 def test_render_writes_mask_coverage_and_image_then_compare_agrees(tmp_path, capsys):
     s = scene_path("cube_on_floor")
-    assert main(["render", s, "--method", "zfail", "--out", str(tmp_path / "z.png"),
-                 "--coverage", str(tmp_path / "c.png"), "--image", str(tmp_path / "i.png")]) == 0
+    assert (
+        main(
+            [
+                "render",
+                s,
+                "--method",
+                "zfail",
+                "--out",
+                str(tmp_path / "z.png"),
+                "--coverage",
+                str(tmp_path / "c.png"),
+                "--image",
+                str(tmp_path / "i.png"),
+            ]
+        )
+        == 0
+    )
     assert main(["render", s, "--method", "raycast", "--out", str(tmp_path / "r.png")]) == 0
     mask = np.asarray(Image.open(tmp_path / "z.png"))
     assert mask.dtype == np.uint8 and mask.shape == (512, 512) and set(np.unique(mask)) == {0, 255}
     assert np.asarray(Image.open(tmp_path / "i.png")).shape == (512, 512, 3)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.png", "i.png", "r.png", "z.png"]   # no temp files left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.png", "i.png", "r.png", "z.png"]  # no temp files left
     capsys.readouterr()
-    assert main(["compare", str(tmp_path / "z.png"), str(tmp_path / "r.png"), "--coverage", str(tmp_path / "c.png")]) == 0
+    assert (
+        main(["compare", str(tmp_path / "z.png"), str(tmp_path / "r.png"), "--coverage", str(tmp_path / "c.png")]) == 0
+    )
     assert "match" in capsys.readouterr().out
 
 
@@ -40,15 +58,15 @@ def test_compare_exit_codes(tmp_path, capsys):
     a = np.zeros((20, 20), dtype=bool)
     a[5:15, 5:15] = True
     b = a.copy()
-    b[7:12, 7:12] = False                 # a 5x5 hole: its centre is > 1 px from every edge of a and b (far)
+    b[7:12, 7:12] = False  # a 5x5 hole: its centre is > 1 px from every edge of a and b (far)
     c = a.copy()
-    c[5, 5:15] = False                    # one row shaved off the edge: near an edge
+    c[5, 5:15] = False  # one row shaved off the edge: near an edge
     for name, m in (("a", a), ("b", b), ("c", c)):
         write_mask(tmp_path / f"{name}.png", m)
     assert main(["compare", str(tmp_path / "a.png"), str(tmp_path / "b.png"), "--tol", "0.5"]) == 1
     out = capsys.readouterr().out
     assert "25 of 400" in out and "; 1 of them more than one pixel" in out
-    assert main(["compare", str(tmp_path / "a.png"), str(tmp_path / "c.png"), "--tol", "0.05"]) == 0   # 10/400
+    assert main(["compare", str(tmp_path / "a.png"), str(tmp_path / "c.png"), "--tol", "0.05"]) == 0  # 10/400
     assert main(["compare", str(tmp_path / "a.png"), str(tmp_path / "c.png"), "--tol", "0.01"]) == 1
     assert main(["compare", str(tmp_path / "a.png"), str(tmp_path / "nope.png")]) == 3
     (tmp_path / "junk.png").write_bytes(b"not a png")
@@ -66,7 +84,9 @@ def test_render_bad_inputs(tmp_path, capsys):
     assert main(["render", str(tmp_path / "bad.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
     (tmp_path / "other.json").write_text('{"spec": "something-else/2"}')
     assert main(["render", str(tmp_path / "other.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
-    assert main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", str(tmp_path / "no" / "m.png")]) == 2
+    assert (
+        main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", str(tmp_path / "no" / "m.png")]) == 2
+    )
     err = capsys.readouterr().err
     assert "missing.json" in err and "bad.json" in err and "other.json" in err
     assert not (tmp_path / "m.png").exists()

@@ -1,8 +1,10 @@
 """The rasteriser by itself: coverage on shared edges, the fill rule, depth at known pixels, clipping."""
+
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
@@ -45,7 +47,7 @@ def test_two_triangles_sharing_a_diagonal_through_pixel_centres_cover_each_centr
 
 def test_back_facing_pair_decrements_each_centre_once():
     W = H = 8
-    tris = [[(0, 0), (8, 0), (8, 8)], [(0, 0), (8, 8), (0, 8)]]        # the same two, reversed winding
+    tris = [[(0, 0), (8, 0), (8, 8)], [(0, 0), (8, 8), (0, 8)]]  # the same two, reversed winding
     assert np.array_equal(stencil_count(clip_from_screen(tris, W, H), W, H), -np.ones((H, W)))
 
 
@@ -95,7 +97,12 @@ def test_any_triangulated_screen_covers_each_centre_exactly_once(k, seed, snap):
     tris = []
     for i in range(k):
         for j in range(k):
-            a, b, c, d = (X[i, j], Y[i, j]), (X[i + 1, j], Y[i + 1, j]), (X[i + 1, j + 1], Y[i + 1, j + 1]), (X[i, j + 1], Y[i, j + 1])
+            a, b, c, d = (
+                (X[i, j], Y[i, j]),
+                (X[i + 1, j], Y[i + 1, j]),
+                (X[i + 1, j + 1], Y[i + 1, j + 1]),
+                (X[i, j + 1], Y[i, j + 1]),
+            )
             # a->b->c->d runs right then down: clockwise as seen, so list them d, c, b, a (front-facing)
             tris += [[a, c, b], [a, d, c]] if rng.random() < 0.5 else [[a, d, b], [b, d, c]]
     assert np.array_equal(stencil_count(clip_from_screen(tris, W, H), W, H), np.ones((H, W)))
@@ -131,9 +138,9 @@ def test_points_at_infinity_reach_the_far_plane_and_fail_the_depth_test():
     assert np.allclose(clip[..., 2] / clip[..., 3], 1.0)
     depth, stencil, tri_id = new_buffers(W, H)
     rasterize(clip, np.array([0]), ZFAIL, depth, stencil, tri_id)
-    assert stencil[W // 2, H // 2] == -1          # front-facing, depth test fails: decrement
+    assert stencil[W // 2, H // 2] == -1  # front-facing, depth test fails: decrement
     rasterize(clip, np.array([0]), ZPASS, depth, stencil, tri_id)
-    assert stencil[W // 2, H // 2] == -1          # and z-pass sees nothing
+    assert stencil[W // 2, H // 2] == -1  # and z-pass sees nothing
 
 
 def test_near_plane_clipping_keeps_only_the_part_in_front():
@@ -157,4 +164,4 @@ def test_pixel_rays_project_to_the_contract_pixel_centres():
         p = np.append(cam.eye + 3.0 * rays[row, col], 1.0)
         c = cam.view_projection @ p
         assert np.allclose([c[0] / c[3], c[1] / c[3]], [2 * (col + 0.5) / 40 - 1, 1 - 2 * (row + 0.5) / 30])
-        assert np.isclose(c[3], 3.0)          # t is eye depth: w_clip = -z_eye
+        assert np.isclose(c[3], 3.0)  # t is eye depth: w_clip = -z_eye

@@ -4,6 +4,7 @@ The shared scenes are rendered at their own resolution (512x512): one scene
 costs well under a second per method here.  Scenes come from
 ``$SILCOUNT_SCENE_DIR`` or ``../shared/scenes``; tests skip when absent.
 """
+
 from __future__ import annotations
 
 import json
@@ -11,12 +12,12 @@ import json
 import numpy as np
 import pytest
 
-from silcount.commands.render import shared_scene_dir
+from silcount.cli.render import shared_scene_dir
+from silcount.mesh.lights import PointLight
 from silcount.render.masks import compare_masks
 from silcount.render.methods import render_method
 from silcount.render.planar import floor_plane, shadow_matrix
 from silcount.render.scene import load_scene, rotation_xyz
-from silcount.lights import PointLight
 
 SCENES = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and_cubes", "eye_in_shadow")
 _cache: dict = {}
@@ -43,7 +44,7 @@ def test_zfail_reference_matches_raycast(name):
     r, t = render_method(scene(name), "zfail"), truth(name)
     c = compare_masks(r.mask, t.mask, t.coverage)
     assert c.far == 0 and c.fraction <= 0.005, c.describe()
-    assert t.mask.sum() > 1000          # there is a shadow to get right
+    assert t.mask.sum() > 1000  # there is a shadow to get right
 
 
 @pytest.mark.parametrize("name", [s for s in SCENES if s != "eye_in_shadow"])
@@ -92,7 +93,7 @@ def test_shadow_matrix_projects_onto_the_plane_along_the_light_ray():
     lit = M.copy()
     lit = shadow_matrix(np.array([0, 1.0, 0]), 0.25, PointLight(L), "literal")
     hl = lit @ np.append(P, 1.0)
-    assert abs(hl[1] / hl[3] - 0.25) > 0.1          # the printed matrix misses the plane
+    assert abs(hl[1] / hl[3] - 0.25) > 0.1  # the printed matrix misses the plane
 
 
 def test_rotation_order_is_x_then_y_then_z():
@@ -104,10 +105,13 @@ def test_rotation_order_is_x_then_y_then_z():
 
 def test_scene_transform_scale_rotate_translate(tmp_path):
     (tmp_path / "tri.obj").write_text("v 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n")
-    doc = {"spec": "silcount-scene/1", "resolution": [8, 8],
-           "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1},
-           "light": {"position": [0, 5, 0]},
-           "objects": [{"mesh": "tri.obj", "scale": 2, "rotate_deg": [90, 0, 0], "translate": [1, 2, 3]}]}
+    doc = {
+        "spec": "silcount-scene/1",
+        "resolution": [8, 8],
+        "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1},
+        "light": {"position": [0, 5, 0]},
+        "objects": [{"mesh": "tri.obj", "scale": 2, "rotate_deg": [90, 0, 0], "translate": [1, 2, 3]}],
+    }
     (tmp_path / "s.json").write_text(json.dumps(doc))
     sc = load_scene(tmp_path / "s.json")
     # by hand: (0,1,0) -> (0,2,0) -> rotX 90 -> (0,0,2) -> +t -> (1,2,5); (1,0,0) -> (2,0,0) -> (3,2,3);
@@ -117,13 +121,17 @@ def test_scene_transform_scale_rotate_translate(tmp_path):
 
 
 def test_open_caster_renders_with_a_warning_naming_its_open_edges(tmp_path, shared_mesh):
-    shared_mesh("bunny.ply")          # skips without SILCOUNT_MESH_DIR
+    shared_mesh("bunny.ply")  # skips without SILCOUNT_MESH_DIR
     import os
+
     bunny = os.path.join(os.environ["SILCOUNT_MESH_DIR"], "bunny.ply")
-    doc = {"spec": "silcount-scene/1", "resolution": [48, 48],
-           "camera": {"eye": [0.3, 0.3, 0.4], "target": [0, 0.1, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.01},
-           "light": {"position": [0.2, 1.0, 0.3]},
-           "objects": [{"mesh": bunny}]}
+    doc = {
+        "spec": "silcount-scene/1",
+        "resolution": [48, 48],
+        "camera": {"eye": [0.3, 0.3, 0.4], "target": [0, 0.1, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.01},
+        "light": {"position": [0.2, 1.0, 0.3]},
+        "objects": [{"mesh": bunny}],
+    }
     (tmp_path / "b.json").write_text(json.dumps(doc))
     r = render_method(load_scene(tmp_path / "b.json"), "zfail")
     assert any("not closed" in m and "boundary" in m and "vertex pairs" in m for m in r.messages)
@@ -137,7 +145,7 @@ def test_directional_light_volumes_match_raycast(tmp_path, method):
         pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
     doc = json.loads((d / "torus_self_shadow.json").read_text())
     doc["light"] = {"direction": [-1, 3, 1.5]}
-    doc["resolution"] = [256, 256]                       # reduced resolution: this test is about the volumes
+    doc["resolution"] = [256, 256]  # reduced resolution: this test is about the volumes
     for o in doc["objects"]:
         o["mesh"] = str(d / o["mesh"])
     (tmp_path / "dir.json").write_text(json.dumps(doc))

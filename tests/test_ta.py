@@ -1,14 +1,14 @@
 """The Triangular Algorithm: hand-counted tallies, the paper's printed sum, naive == fast, agreement."""
+
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import closed_meshes, lights_for, mesh_and_light
 
 import silcount
-from silcount import models
+from silcount.counting import paper as models
 from silcount.detectors.base import visibility_true_cost
-from silcount.mesh import from_polygons
-
-from strategies import closed_meshes, lights_for, mesh_and_light
+from silcount.mesh.model import from_polygons
 
 # One counted_visibility with a point light, by hand: reads face_start[p] (1), three corner
 # indices (3), nine coordinates (9), three light coordinates (3) = 16 R; e1, e2 (6 A), the cross
@@ -44,19 +44,23 @@ def test_tetrahedron_by_hand():
     light = silcount.PointLight((5.0, 5.0, 5.0))
     for engine in ("naive", "fast"):
         res = silcount.detect(m, light, "ta", engine=engine)
-        assert res.oriented.tolist() == [[1, 0], [0, 2], [2, 1]]      # rows follow the edge table
+        assert res.oriented.tolist() == [[1, 0], [0, 2], [2, 1]]  # rows follow the edge table
         assert res.edges.tolist() == [[0, 1], [0, 2], [1, 2]]
         assert res.steps == {"visibility": 4, "search_S": 9, "delete": 3, "add": 6, "shift": 8}
         # true: 4 visibilities (4 x VIS_POINT); 3 facing faces read face_start twice (6 R);
         # 9 sides read v_p, v_q (18 R) and pack the reverse key (9 M, 9 A); 18 elements read and
         # compared (18 R, 18 C); 3 deletes decrement the length (3 A) and shift 8 (8 R, 8 W);
         # 6 adds pack the key (6 M, 6 A), write it (6 W) and increment the length (6 A).
-        assert res.tally["true"] == {"read": 64 + 6 + 18 + 18 + 8, "add": 56 + 9 + 3 + 12,
-                                     "mul": 36 + 9 + 6, "cmp": 4 + 18, "write": 8 + 6}
+        assert res.tally["true"] == {
+            "read": 64 + 6 + 18 + 18 + 8,
+            "add": 56 + 9 + 3 + 12,
+            "mul": 36 + 9 + 6,
+            "cmp": 4 + 18,
+            "write": 8 + 6,
+        }
         # paper (EESD 5.1, e_n = 6): 4 x (8A 10M 1C 8R); 9 searches x (6C 6R 1M); 3 deletes x
         # (1R 2W); 6 adds x 1W.
-        assert res.tally["paper"] == {"add": 32, "mul": 40 + 9, "cmp": 4 + 54, "read": 32 + 54 + 3,
-                                      "write": 6 + 6}
+        assert res.tally["paper"] == {"add": 32, "mul": 40 + 9, "cmp": 4 + 54, "read": 32 + 54 + 3, "write": 6 + 6}
 
 
 def test_quad_cube_by_hand():
@@ -72,8 +76,13 @@ def test_quad_cube_by_hand():
         assert res.steps == {"visibility": 6, "search_S": 4, "delete": 0, "add": 4, "shift": 0}
         # true: 6 x VIS_POINT; 1 facing face (2 R); 4 sides (8 R, 4 M, 4 A); 6 examined (6 R, 6 C);
         # 4 adds (4 M, 8 A, 4 W)
-        assert res.tally["true"] == {"read": 96 + 2 + 8 + 6, "add": 84 + 4 + 8, "mul": 54 + 4 + 4,
-                                     "cmp": 6 + 6, "write": 4}
+        assert res.tally["true"] == {
+            "read": 96 + 2 + 8 + 6,
+            "add": 84 + 4 + 8,
+            "mul": 54 + 4 + 4,
+            "cmp": 6 + 6,
+            "write": 4,
+        }
         # paper (e_n = 12): 6 x (8A 10M 1C 8R); 4 searches x (12C 12R 1M); 4 adds x 1W
         assert res.tally["paper"] == {"add": 48, "mul": 60 + 4, "cmp": 6 + 48, "read": 48 + 48, "write": 4}
 
@@ -91,15 +100,19 @@ def test_literal_start_by_hand():
     light = silcount.PointLight((0.0, 0.0, 10.0))
     for engine in ("naive", "fast"):
         res = silcount.detect(m, light, "ta", variant="literal", engine=engine)
-        assert res.steps == {"visibility": 6, "search_S": 4, "delete": 2, "add": 2, "shift": 6 + 9,
-                             "init_S": 12}
+        assert res.steps == {"visibility": 6, "search_S": 4, "delete": 2, "add": 2, "shift": 6 + 9, "init_S": 12}
         assert res.n_edges == 10 and res.notes["duplicates_in_S"] == 2
         assert res.notes["missed_edges"] == 2 and res.notes["extra_edges"] == 8
         # true, beyond the intended run's visibility (6 x VIS_POINT) and facing face (2 R):
         # init 12 x (2R 1M 2A 1W); 4 sides (8R 4M 4A); examined 12+13+8+4 = 37 (37R 37C);
         # 2 deletes (2A) shifting 15 (15R 15W); 2 adds (2M 4A 2W)
-        assert res.tally["true"] == {"read": 96 + 2 + 24 + 8 + 37 + 15, "add": 84 + 24 + 4 + 2 + 4,
-                                     "mul": 54 + 12 + 4 + 2, "cmp": 6 + 37, "write": 12 + 15 + 2}
+        assert res.tally["true"] == {
+            "read": 96 + 2 + 24 + 8 + 37 + 15,
+            "add": 84 + 24 + 4 + 2 + 4,
+            "mul": 54 + 12 + 4 + 2,
+            "cmp": 6 + 37,
+            "write": 12 + 15 + 2,
+        }
 
 
 def test_paper_worst_case_reproduces_printed_sum():
@@ -119,8 +132,7 @@ def any_meshes(draw):
     """Arbitrary small triangle sets on few vertices: boundary, non-manifold, inconsistent, duplicate faces."""
     k = draw(st.integers(4, 7))
     seed = draw(st.integers(0, 2**32 - 1))
-    tris = draw(st.lists(st.lists(st.integers(0, k - 1), min_size=3, max_size=3, unique=True),
-                         min_size=1, max_size=16))
+    tris = draw(st.lists(st.lists(st.integers(0, k - 1), min_size=3, max_size=3, unique=True), min_size=1, max_size=16))
     v = np.random.default_rng(seed).normal(size=(k, 3))
     return from_polygons(v, tris, name=f"any{seed}")
 
@@ -180,13 +192,15 @@ def test_replay_matches_a_plain_list(n_keys, data):
 
     sizes = data.draw(st.lists(st.integers(0, 5), min_size=1, max_size=12))
     start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-    keys = np.array(data.draw(st.lists(st.integers(0, n_keys - 1), min_size=int(start[-1]), max_size=int(start[-1]))),
-                    dtype=np.int64)
+    keys = np.array(
+        data.draw(st.lists(st.integers(0, n_keys - 1), min_size=int(start[-1]), max_size=int(start[-1]))),
+        dtype=np.int64,
+    )
     facing = np.array(data.draw(st.lists(st.booleans(), min_size=len(sizes), max_size=len(sizes))))
     initial = np.array(data.draw(st.lists(st.integers(0, n_keys - 1), max_size=20)), dtype=np.int64)
     S, examined, shifted = list(initial), 0, 0
     for p in np.flatnonzero(facing):
-        for k in keys[start[p]:start[p + 1]]:
+        for k in keys[start[p] : start[p + 1]]:
             rev = k ^ 1
             if rev in S:
                 pos = S.index(rev)

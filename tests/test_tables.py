@@ -1,4 +1,5 @@
 """The tables report: printed cells from the paper text, CSV shape, regeneration."""
+
 from __future__ import annotations
 
 import csv
@@ -7,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from silcount import tables
-from silcount.cli import main
+from silcount.cli.main import main
+from silcount.papers import tables
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -53,5 +54,6 @@ def test_tex_and_md_render():
 def test_committed_reports_are_regenerated(tmp_path, name):
     tables.report(tmp_path)
     tmp_path = tmp_path / "tables"
-    assert (ROOT / "reports" / "tables" / name).read_text() == (tmp_path / name).read_text(), \
+    assert (ROOT / "reports" / "tables" / name).read_text() == (tmp_path / name).read_text(), (
         "reports/tables is stale: run `silcount tables --out reports/tables` (or `silcount report`)"
+    )

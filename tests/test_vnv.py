@@ -1,10 +1,12 @@
 """VnV: hand-counted tallies, naive == fast, intended == reference, literal's disagreement."""
+
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import closed_meshes, lights_for
 
 import silcount
-from silcount.detectors.reference import facing_flags
-from strategies import closed_meshes, lights_for
+from silcount.detectors.adjacency import facing_flags
 
 # One counted visibility test (base.counted_visibility), counted by reading the code:
 # reads: face_start[p] 1 + three corner indices 3 + nine coordinates 9 + three light values 3 = 16;
@@ -41,8 +43,14 @@ def test_tetrahedron_intended_by_hand():
     # Each facing triangle: the 3 edges it lacks examine 3 sides each (9), its own 3 are found
     # after 1, 2, 3 sides (6): 15 sides per face, 45 in all.  Counter: 3 sides x 3 faces = 9.
     assert res.steps == {"visibility": 24, "contains": 18, "counter": 9, "check_counter": 6, "add": 3}
-    assert res.tally["true"] == tally((24, VIS_POINT), (18, {"read": 2}), (45, {"read": 1, "cmp": 1}),
-                                      (9, {"add": 1}), (6, {"cmp": 1}), (3, {"write": 1}))
+    assert res.tally["true"] == tally(
+        (24, VIS_POINT),
+        (18, {"read": 2}),
+        (45, {"read": 1, "cmp": 1}),
+        (9, {"add": 1}),
+        (6, {"cmp": 1}),
+        (3, {"write": 1}),
+    )
     assert res.tally["true"] == {"add": 345, "mul": 216, "cmp": 75, "read": 465, "write": 3}
     # paper: 24 x (8A+10M+1C+8R) + 9 x 1A + 6 x (1C+1R) + 3 x 1W
     assert res.tally["paper"] == {"add": 201, "mul": 240, "cmp": 30, "read": 198, "write": 3}
@@ -61,15 +69,23 @@ def test_tetrahedron_literal_by_hand():
 def test_quad_cube_by_hand():
     # Light far above: only the top face (vertices 1,3,7,5; 4 sides) faces it.
     m = silcount.builtin_mesh("quad_cube")
-    for light, vis in ((silcount.PointLight((0.0, 0.0, 10.0)), VIS_POINT),
-                       (silcount.DirectionalLight((0.0, 0.0, 1.0)), VIS_DIRECTIONAL)):
+    for light, vis in (
+        (silcount.PointLight((0.0, 0.0, 10.0)), VIS_POINT),
+        (silcount.DirectionalLight((0.0, 0.0, 1.0)), VIS_DIRECTIONAL),
+    ):
         res = both_engines(m, light, "intended")
         assert {tuple(e) for e in res.edges.tolist()} == {(1, 3), (1, 5), (3, 7), (5, 7)}
         # 12 x 6 = 72 visibility tests; 12 containment scans of the top face: the 8 edges it lacks
         # examine 4 sides each (32), its own 4 are found after 1+2+3+4 = 10: 42 sides.
         assert res.steps == {"visibility": 72, "contains": 12, "counter": 4, "check_counter": 12, "add": 4}
-        assert res.tally["true"] == tally((72, vis), (12, {"read": 2}), (42, {"read": 1, "cmp": 1}),
-                                          (4, {"add": 1}), (12, {"cmp": 1}), (4, {"write": 1}))
+        assert res.tally["true"] == tally(
+            (72, vis),
+            (12, {"read": 2}),
+            (42, {"read": 1, "cmp": 1}),
+            (4, {"add": 1}),
+            (12, {"cmp": 1}),
+            (4, {"write": 1}),
+        )
         assert res.tally["paper"] == {"add": 576 + 4, "mul": 720, "cmp": 72 + 12, "read": 576 + 12, "write": 4}
     # literal, one facing face: the counter is 1 after the first edge only, so edge 0 = [0,1]
     # (a bottom-left edge, not on the top face) is reported and the 4 true ones are missed.

@@ -7,20 +7,38 @@
 | vnv         | HSD 2011 Sec. 4.2; EESD 2012 Sec. 3.2   | vnv.py        |
 | hsd         | HSD 2011 Sec. V, 6.3                    | hsd.py        |
 | eesd        | EESD 2012 Sec. 3.3, 5.3                 | eesd.py       |
+
+Beside them: ``base.py`` (the result type, counted visibility),
+``adjacency.py`` (light-facing flags and the reference rule, shared by all),
+``edge_array.py`` (TA's and HSD's array S), ``onplane.py`` (EESD literal's
+point-on-plane search) and ``plain.py`` (each algorithm's loops compiled and
+uncounted, for timing).  :data:`REGISTRY` maps each name to its ``detect``.
 """
+
 from __future__ import annotations
 
-import importlib
+from collections.abc import Callable
 
-from ..errors import BadArgument
-from ..lights import Light
-from ..mesh import Mesh
-from .base import ENGINES, VARIANTS, Silhouette
+from silcount.detectors import eesd, hsd, reference, ta, vnv
+from silcount.detectors.base import ENGINES, VARIANTS, Silhouette
+from silcount.errors import BadArgument
+from silcount.mesh.lights import Light
+from silcount.mesh.model import Mesh
 
-DETECTORS: tuple[str, ...] = ("reference", "ta", "vnv", "hsd", "eesd")
+Detector = Callable[..., Silhouette]
+REGISTRY: dict[str, Detector] = {
+    "reference": reference.detect,
+    "ta": ta.detect,
+    "vnv": vnv.detect,
+    "hsd": hsd.detect,
+    "eesd": eesd.detect,
+}
+DETECTORS: tuple[str, ...] = tuple(REGISTRY)
 
 
-def detect(mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast") -> Silhouette:
+def detect(
+    mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast"
+) -> Silhouette:
     """Run detector ``name`` on ``mesh`` for ``light``; see :class:`Silhouette` for the result."""
     if name not in DETECTORS:
         raise BadArgument(f"unknown detector {name!r}; choose from {', '.join(DETECTORS)}")
@@ -28,8 +46,7 @@ def detect(mesh: Mesh, light: Light, name: str = "reference", variant: str = "in
         raise BadArgument(f"unknown variant {variant!r}; choose from {', '.join(VARIANTS)}")
     if engine not in ENGINES:
         raise BadArgument(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
-    module = importlib.import_module(f".{name}", __name__)
-    return module.detect(mesh, light, variant=variant, engine=engine)
+    return REGISTRY[name](mesh, light, variant=variant, engine=engine)
 
 
-__all__ = ["DETECTORS", "detect", "Silhouette"]
+__all__ = ["DETECTORS", "REGISTRY", "detect", "Silhouette"]

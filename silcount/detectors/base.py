@@ -7,18 +7,20 @@ from the face to the light, a dot product and the sign of the result.
 engine calls; :func:`visibility_true_cost` measures its cost by running it,
 so the ``fast`` engines charge exactly what the ``naive`` ones execute.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, cached_property
 from typing import Any
 
 import numpy as np
 
-from ..counting import KINDS, Memory, Num, OpCounter, plain
-from ..lights import DirectionalLight, Light, PointLight
-from ..mesh import Mesh, from_polygons
-from .. import models
+from silcount.counting import paper as models
+from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
+from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.model import Mesh, from_polygons
 
 VARIANTS = ("intended", "literal")
 ENGINES = ("fast", "naive")
@@ -31,13 +33,20 @@ class Silhouette:
     detector: str
     variant: str
     engine: str
-    edge_ids: np.ndarray          # (k,) ids into mesh.edges, ascending
-    edges: np.ndarray             # (k, 2) welded vertex indices, rows sorted, rows in order
-    oriented: np.ndarray          # (k, 2) same edges, as traversed by their light-facing face
-    steps: dict[str, int]         # how many times each named step ran
-    tally: dict[str, dict[str, int]]   # cost model ("paper", "true") -> kind -> count
-    ties: int = 0                 # faces whose facing value is exactly 0
+    edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
+    edges: np.ndarray  # (k, 2) welded vertex indices, rows sorted, rows in order
+    oriented: np.ndarray  # (k, 2) same edges, as traversed by their light-facing face
+    steps: dict[str, int]  # how many times each named step ran
+    true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
+    paper_model: str  # the models/ file whose per-line costs give the ``paper`` cost model
+    paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
+    ties: int = 0  # faces whose facing value is exactly 0
     notes: dict[str, Any] = field(default_factory=dict)
+
+    @cached_property
+    def tally(self) -> dict[str, dict[str, int]]:
+        """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access."""
+        return {"paper": models.paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
 
     @property
     def n_edges(self) -> int:
@@ -87,7 +96,7 @@ def counted_visibility(mem: MeshMemory, p: int) -> tuple[bool, float]:
     return dot > 0.0, plain(dot)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _visibility_cost(directional: bool) -> tuple[tuple[str, int], ...]:
     tri = from_polygons(np.eye(3), [[0, 1, 2]])
     light: Light = DirectionalLight((0, 0, 1)) if directional else PointLight((0, 0, 5))
@@ -166,7 +175,6 @@ def make_silhouette(
     params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
     if paper_params:
         params.update(paper_params)
-    paper = models.paper_tally(models.DEFAULT_PAPER_MODEL[detector], steps, params)
     true = {k: 0 for k in KINDS}
     true.update({k: int(v) for k, v in true_tally.items()})
     return Silhouette(
@@ -177,7 +185,9 @@ def make_silhouette(
         edges=mesh.edges[ids],
         oriented=oriented_edges(mesh, ids, is_facing),
         steps={k: int(v) for k, v in steps.items()},
-        tally={"paper": paper, "true": true},
+        true_tally=true,
+        paper_model=models.DEFAULT_PAPER_MODEL[detector],
+        paper_params=params,
         ties=ties,
         notes=notes,
     )
@@ -190,8 +200,6 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
     that the reference does not have; ``disagreement_with_reference``: both.
     Every non-reference result carries these notes, so no disagreement is hidden.
     """
-    from .reference import silhouette_edge_ids
-
     ref = silhouette_edge_ids(mesh, light)
     missed = int(np.setdiff1d(ref, edge_ids, assume_unique=True).size)
     extra = int(np.setdiff1d(edge_ids, ref, assume_unique=True).size)
@@ -199,6 +207,17 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 
 __all__ = [
-    "Silhouette", "MeshMemory", "counted_face_normal", "counted_visibility", "visibility_true_cost",
-    "add_scaled", "oriented_edges", "make_silhouette", "unique_ids", "VARIANTS", "ENGINES", "Num", "plain",
+    "Silhouette",
+    "MeshMemory",
+    "counted_face_normal",
+    "counted_visibility",
+    "visibility_true_cost",
+    "add_scaled",
+    "oriented_edges",
+    "make_silhouette",
+    "unique_ids",
+    "VARIANTS",
+    "ENGINES",
+    "Num",
+    "plain",
 ]

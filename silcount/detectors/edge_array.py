@@ -10,7 +10,7 @@ array"; a found edge is deleted, a missing one is appended.  Both TA and HSD
   reads and compares elements from the front and stops at the first match;
   a deletion shifts every element behind it one place left (one read and one
   write each) and decrements the length; an append writes one element and
-  increments the length.  The length is a :class:`~silcount.counting.Num`, so
+  increments the length.  The length is a :class:`~silcount.counting.arithmetic.Num`, so
   its updates count one ``add`` each; the search loop's bound test is loop
   bookkeeping (not counted).
 * :func:`replay` computes the same outcome and the same counts without the
@@ -25,6 +25,7 @@ Directed edges are identified in :func:`replay` by ``2 * edge_id + dir``
 (``dir = 0`` for lower -> higher vertex index), so the reverse of key ``k``
 is ``k ^ 1``; this is a relabelling of the packed keys, not a different rule.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -32,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..counting import Memory, Num, OpCounter
+from silcount.counting.arithmetic import Memory, Num, OpCounter
 
 
 class CountedEdgeArray:
@@ -68,12 +69,12 @@ class CountedEdgeArray:
 class Replay:
     """The outcome of running TA's array S over a sequence of sides."""
 
-    live_keys: np.ndarray   # directed keys (2*edge + dir) left in S, in array order
-    searched: int           # sides searched (one search per side of a light-facing polygon)
-    examined: int           # elements read and compared by all searches
-    deleted: int            # searches that found the reverse edge
-    added: int              # searches that did not
-    shifted: int            # elements moved left by deletions
+    live_keys: np.ndarray  # directed keys (2*edge + dir) left in S, in array order
+    searched: int  # sides searched (one search per side of a light-facing polygon)
+    examined: int  # elements read and compared by all searches
+    deleted: int  # searches that found the reverse edge
+    added: int  # searches that did not
+    shifted: int  # elements moved left by deletions
 
 
 @njit(cache=True, inline="always")
@@ -96,13 +97,13 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
         if poly_facing[p]:
             n_sides += start[p + 1] - start[p]
     n_slots = n_init + n_sides
-    tree = np.zeros(n_slots + 1, dtype=np.int64)       # Fenwick tree over slots (1-based)
+    tree = np.zeros(n_slots + 1, dtype=np.int64)  # Fenwick tree over slots (1-based)
     alive = np.zeros(n_slots, dtype=np.bool_)
     slot_key = np.empty(n_slots, dtype=np.int64)
-    nxt = np.full(n_slots, -1, dtype=np.int64)          # next live slot with the same key
+    nxt = np.full(n_slots, -1, dtype=np.int64)  # next live slot with the same key
     head = np.full(n_keys, -1, dtype=np.int64)
     tail = np.full(n_keys, -1, dtype=np.int64)
-    tree[1:n_init + 1] = 1                             # O(n) Fenwick build over the initial ones
+    tree[1 : n_init + 1] = 1  # O(n) Fenwick build over the initial ones
     for i in range(1, n_slots + 1):
         parent = i + (i & -i)
         if parent <= n_slots:
@@ -124,7 +125,7 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
             searched += 1
             s = head[rev]
             if s >= 0:
-                pos = 0                                 # live slots before s
+                pos = 0  # live slots before s
                 i = s
                 while i > 0:
                     pos += tree[i]
@@ -155,8 +156,9 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
     return live, searched, examined, deleted, used - n_init, shifted
 
 
-def replay(start: np.ndarray, side_key: np.ndarray, poly_facing: np.ndarray, n_keys: int,
-           initial: np.ndarray | None = None) -> Replay:
+def replay(
+    start: np.ndarray, side_key: np.ndarray, poly_facing: np.ndarray, n_keys: int, initial: np.ndarray | None = None
+) -> Replay:
     """Run S over polygons in order: for each light-facing polygon, each side's key, search its reverse.
 
     ``start`` (P+1,) CSR offsets into ``side_key`` (directed keys ``2*edge+dir``);
@@ -164,8 +166,12 @@ def replay(start: np.ndarray, side_key: np.ndarray, poly_facing: np.ndarray, n_k
     """
     init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
     live, searched, examined, deleted, added, shifted = _replay(
-        np.ascontiguousarray(start, dtype=np.int64), np.ascontiguousarray(side_key, dtype=np.int64),
-        np.ascontiguousarray(poly_facing, dtype=np.bool_), int(n_keys), init)
+        np.ascontiguousarray(start, dtype=np.int64),
+        np.ascontiguousarray(side_key, dtype=np.int64),
+        np.ascontiguousarray(poly_facing, dtype=np.bool_),
+        int(n_keys),
+        init,
+    )
     return Replay(live, int(searched), int(examined), int(deleted), int(added), int(shifted))
 
 

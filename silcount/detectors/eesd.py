@@ -44,7 +44,7 @@ Variants
 --------
 ``intended``
     ``Intersection(R, f)`` is a real ray-polygon test: Moller-Trumbore on the
-    face's fan triangles ``(p0, p_k, p_k+1)`` (:mod:`silcount.raytrace`, tie
+    face's fan triangles ``(p0, p_k, p_k+1)`` (:mod:`silcount.mesh.raytrace`, tie
     rule there; exact for convex polygons, as the papers' faces are), and the edge is added once, after the face loop, iff no face
     is hit (a hit counter, as VnV's).  On convex meshes this is the reference
     silhouette; on non-convex ones a silhouette edge whose ``P`` is hidden
@@ -88,7 +88,7 @@ Engines
 -------
 ``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
 same points with numpy in the same order of operations and finds the edges
-with :class:`silcount.raytrace.RayTracer`, casting only the rays that matter:
+with :class:`silcount.mesh.raytrace.RayTracer`, casting only the rays that matter:
 a ray that meets one of its own edge's faces (the same Moller-Trumbore test,
 bit for bit, via ``hits_triangle``) is blocked in the full loop too, so only
 the rays that miss their own faces are cast through the grid: on a closed
@@ -96,39 +96,41 @@ mesh these are exactly the edges whose faces lie on one side as seen from
 the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
 the 1M-face subdivided bunny).  ``notes['rays_cast']`` (fast engine only).
 
-``literal``'s exact-zero plane tests are found by :func:`silcount.onplane.zeros_per_point` (a box tree over the ``P``
+``literal``'s exact-zero plane tests are found by :func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
 points that each plane walks, pruning soundly), which tests only the points
 whose boxes the plane crosses: O(F sqrt(E)) rather than O(E F), about 200 s
 on the 1M-face subdivided bunny against an estimated 40 min for all pairs.
 """
+
 from __future__ import annotations
 
 import math
 import weakref
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
-from ..counting import Memory, Num, OpCounter, plain
-from ..lights import DirectionalLight, Light
-from ..mesh import Mesh, from_polygons
-from ..onplane import zeros_per_point
-from ..raytrace import RayTracer
-from .base import MeshMemory, Silhouette, add_scaled, counted_face_normal, make_silhouette
-from .reference import facing_flags
+from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
+from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, counted_face_normal, make_silhouette
+from silcount.detectors.onplane import zeros_per_point
+from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.model import Mesh, from_polygons
+from silcount.mesh.raytrace import RayTracer
 
 NAME = "eesd"
-EPS = 1e-6                      # the outward offset, in edge lengths
+EPS = 1e-6  # the outward offset, in edge lengths
 
-CHECK_COST = {"cmp": 1}         # hits == 0
-ADD_COST = {"write": 1}         # S[k] = edge
-HIT_COUNT_COST = {"add": 1}     # hits = hits + hit
-FACE_READS = 10                 # face_start[f], [f+1]; p0 and p1: index and 3 coordinates each
-TRIANGLE_READS = 4              # the next corner: index and 3 coordinates
-PAIR_LITERAL_COST = {"read": 4, "mul": 3, "add": 3, "cmp": 1}   # a, b, c, d; aPx+bPy+cPz+d == 0
+CHECK_COST = {"cmp": 1}  # hits == 0
+ADD_COST = {"write": 1}  # S[k] = edge
+HIT_COUNT_COST = {"add": 1}  # hits = hits + hit
+FACE_READS = 10  # face_start[f], [f+1]; p0 and p1: index and 3 coordinates each
+TRIANGLE_READS = 4  # the next corner: index and 3 coordinates
+PAIR_LITERAL_COST = {"read": 4, "mul": 3, "add": 3, "cmp": 1}  # a, b, c, d; aPx+bPy+cPz+d == 0
 
 
 # ---------------------------------------------------------------- counted routines (naive engine)
+
 
 def _sqrt(x: Num) -> Num:
     x.counter["sqrt"] += 1
@@ -165,7 +167,7 @@ def counted_ray(p, light_vals, directional: bool):
 
 
 def counted_triangle_hit(o, d, a, b, c, t_min: float, t_max: float) -> bool:
-    """Moller-Trumbore on counting arithmetic, in :mod:`silcount.raytrace`'s order; branch-free."""
+    """Moller-Trumbore on counting arithmetic, in :mod:`silcount.mesh.raytrace`'s order; branch-free."""
     e1 = [b[k] - a[k] for k in range(3)]
     e2 = [c[k] - a[k] for k in range(3)]
     p = [d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]]
@@ -186,7 +188,7 @@ def counted_plane(mem: MeshMemory, f: int) -> list[Num]:
     return n + [0.0 - (n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2])]
 
 
-@lru_cache(maxsize=None)
+@cache
 def _routine_costs(directional: bool) -> dict[str, tuple[tuple[str, int], ...]]:
     """The fixed ``true`` cost of each counted routine, measured by running it once."""
     out = {}
@@ -198,8 +200,9 @@ def _routine_costs(directional: bool) -> dict[str, tuple[tuple[str, int], ...]]:
     light_vals = nums([0.0, 0.0, 1.0] if directional else [0.0, 0.0, 5.0])
     o, d, lo, hi = counted_ray(nums([0.5, 0.5, 0.0]), light_vals, directional)
     out["ray"], counter = tuple(sorted(counter.items())), OpCounter()
-    counted_triangle_hit(nums([0.2, 0.2, 5]), nums([0, 0, -1]), nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]),
-                         lo, hi)
+    counted_triangle_hit(
+        nums([0.2, 0.2, 5]), nums([0, 0, -1]), nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]), lo, hi
+    )
     out["triangle_test"], counter = tuple(sorted(counter.items())), OpCounter()
     tri = from_polygons(np.eye(3), [[0, 1, 2]])
     counted_plane(MeshMemory(tri, DirectionalLight((0, 0, 1)), counter), 0)
@@ -260,8 +263,14 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
     m = (v1 + v2) * 0.5
     e = v2 - v1
     d = np.broadcast_to(L, m.shape) if directional else m - L
-    w = np.stack([d[:, 1] * e[:, 2] - d[:, 2] * e[:, 1], d[:, 2] * e[:, 0] - d[:, 0] * e[:, 2],
-                  d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0]], axis=1)
+    w = np.stack(
+        [
+            d[:, 1] * e[:, 2] - d[:, 2] * e[:, 1],
+            d[:, 2] * e[:, 0] - d[:, 0] * e[:, 2],
+            d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0],
+        ],
+        axis=1,
+    )
     g = c - m
     side = g[:, 0] * w[:, 0] + g[:, 1] * w[:, 1] + g[:, 2] * w[:, 2]
     sgn = np.where(side > 0.0, -1.0, 1.0)
@@ -276,6 +285,7 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
 
 
 # ---------------------------------------------------------------- engines
+
 
 def _naive(mesh: Mesh, light: Light, variant: str):
     counter = OpCounter()
@@ -297,36 +307,36 @@ def _naive(mesh: Mesh, light: Light, variant: str):
         on_plane = 0
     else:
         steps.update(triangle_test=0, check_hits=0)
-    for e in range(E):                                               # For e1 = 1 (v1v2) to Number Of Edges
+    for e in range(E):  # For e1 = 1 (v1v2) to Number Of Edges
         v1, v2, c = point(table[2 * e]), point(table[2 * e + 1]), point(apex[e])
         light_vals = [mem.light[k] for k in range(3)]
-        p = counted_outward_point(v1, v2, c, light_vals, directional)   # v1' = v1 + Δv1
+        p = counted_outward_point(v1, v2, c, light_vals, directional)  # v1' = v1 + Δv1
         steps["extend"] += 1
-        o, d, t_min, t_max = counted_ray(p, light_vals, directional)    # R = ray of light source to v1'
+        o, d, t_min, t_max = counted_ray(p, light_vals, directional)  # R = ray of light source to v1'
         steps["ray"] += 1
         hits = Num(0, counter)
-        for f in range(F):                                           # for f = 1 to Number of Faces
-            steps["intersection"] += 1                               # if Intersection(R, f) = false then
+        for f in range(F):  # for f = 1 to Number of Faces
+            steps["intersection"] += 1  # if Intersection(R, f) = false then
             if variant == "literal":
                 a, b, cc, dd = (planes[4 * f + k] for k in range(4))
                 if a * p[0] + b * p[1] + cc * p[2] + dd == 0.0:
                     on_plane += 1
                     continue
-                S[len(out)] = e                                      # Add v1v2 to S (every missed face)
+                S[len(out)] = e  # Add v1v2 to S (every missed face)
                 out.append(e)
                 steps["add"] += 1
                 continue
             lo, hi = plain(mem.face_start[f]), plain(mem.face_start[f + 1])
             first = point(mem.corners[lo])
             prev = point(mem.corners[lo + 1])
-            for s in range(lo + 2, hi):                              # the face's fan triangles
+            for s in range(lo + 2, hi):  # the face's fan triangles
                 nxt = point(mem.corners[s])
                 hits = hits + counted_triangle_hit(o, d, first, prev, nxt, t_min, t_max)
                 steps["triangle_test"] += 1
                 prev = nxt
         if variant == "intended":
             steps["check_hits"] += 1
-            if hits == 0:                                            # no face met: a silhouette edge
+            if hits == 0:  # no face met: a silhouette edge
                 S[len(out)] = e
                 out.append(e)
                 steps["add"] += 1
@@ -347,7 +357,8 @@ def _fast_intended(mesh: Mesh, light: Light):
     n_tri = np.diff(data["tri_start"])[side_face]
     pair_edge = np.repeat(side_edge, n_tri)
     pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
-        np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri))
+        np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+    )
     tracer = _tracer(mesh)
     local = tracer.hits_triangle(origins[pair_edge], directions[pair_edge], pair_tri, t_min, t_max)
     blocked = np.zeros(E, dtype=bool)
@@ -357,13 +368,19 @@ def _fast_intended(mesh: Mesh, light: Light):
     blocked[cand] = tracer.any_hit(origins[cand], directions[cand], t_min, t_max)
     ids = np.flatnonzero(~blocked)
     T = data["tri_face"].size
-    steps = {"extend": E, "ray": E, "intersection": E * F, "add": int(ids.size), "triangle_test": E * T,
-             "check_hits": E}
+    steps = {
+        "extend": E,
+        "ray": E,
+        "intersection": E * F,
+        "add": int(ids.size),
+        "triangle_test": E * T,
+        "check_hits": E,
+    }
     true: dict[str, int] = {}
     add_scaled(true, routine_cost("extend", light), E)
     add_scaled(true, routine_cost("ray", light), E)
-    add_scaled(true, {"read": 2}, E)                                 # the edge's two vertex indices
-    add_scaled(true, {"read": 1 + 3 + 3 + 3 + 3}, E)                 # far corner index; v1, v2, c, light
+    add_scaled(true, {"read": 2}, E)  # the edge's two vertex indices
+    add_scaled(true, {"read": 1 + 3 + 3 + 3 + 3}, E)  # far corner index; v1, v2, c, light
     add_scaled(true, {"read": FACE_READS}, E * F)
     add_scaled(true, routine_cost("triangle_test", light), E * T)
     add_scaled(true, {"read": TRIANGLE_READS}, E * T)
@@ -379,8 +396,14 @@ def face_planes(mesh: Mesh) -> np.ndarray:
     s = mesh.face_start[:-1]
     e1 = mesh.vertices[mesh.corners[s + 1]] - p0
     e2 = mesh.vertices[mesh.corners[s + 2]] - p0
-    n = np.stack([e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1], e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
-                  e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]], axis=1)
+    n = np.stack(
+        [
+            e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1],
+            e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
+            e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0],
+        ],
+        axis=1,
+    )
     d = 0.0 - (n[:, 0] * p0[:, 0] + n[:, 1] * p0[:, 1] + n[:, 2] * p0[:, 2])
     return np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
 
@@ -389,12 +412,12 @@ def _fast_literal(mesh: Mesh, light: Light):
     E, F = mesh.n_edges, mesh.n_faces
     zeros = zeros_per_point(outward_points_and_rays(mesh, light)[0], face_planes(mesh))
     adds_per_edge = F - zeros
-    ids = np.flatnonzero(adds_per_edge)        # S holds edge e adds_per_edge[e] times
+    ids = np.flatnonzero(adds_per_edge)  # S holds edge e adds_per_edge[e] times
     adds = int(adds_per_edge.sum())
     steps = {"extend": E, "ray": E, "intersection": E * F, "add": adds, "plane": F}
     true: dict[str, int] = {}
     add_scaled(true, routine_cost("plane", light), F)
-    add_scaled(true, {"write": 4}, F)                                # the plane table
+    add_scaled(true, {"write": 4}, F)  # the plane table
     add_scaled(true, routine_cost("extend", light), E)
     add_scaled(true, routine_cost("ray", light), E)
     add_scaled(true, {"read": 2 + 1 + 3 + 3 + 3 + 3}, E)

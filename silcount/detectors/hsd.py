@@ -3,7 +3,7 @@
 HSD merges adjacent faces "that ha[ve] same normal vectors" into polygons and
 runs the Triangular Algorithm over the polygons' sides (:mod:`.ta`, with S
 starting empty as in the HSD paper's TA, Sec. 4.1).  The merge
-(:func:`silcount.coplanar.merge`) does not depend on the light and is cached
+(:func:`silcount.mesh.coplanar.merge`) does not depend on the light and is cached
 per mesh, so a per-light query only runs TA over the polygons.
 
 * A polygon's visibility is that of its representative, the lowest-index
@@ -16,7 +16,7 @@ Variants
 --------
 ``intended``
     the ``tight`` merge: exactly coplanar faces with the same orientation
-    (criterion in :mod:`silcount.coplanar`).  Merged faces always share
+    (criterion in :mod:`silcount.mesh.coplanar`).  Merged faces always share
     their facing sign, so no reference silhouette edge lies inside a polygon
     and the result has the reference's edges wherever TA's has (closed or
     open, manifold, consistently wound meshes).
@@ -36,22 +36,23 @@ polygon), ``search_S``, ``delete``, ``add``, ``shift``.  Boundary,
 non-manifold and inconsistently wound edges never lie inside a polygon and
 are handled as TA handles them.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..coplanar import Merge, merge
-from ..counting import Memory, OpCounter, plain
-from ..lights import Light
-from ..mesh import Mesh
-from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, visibility_true_cost
-from .edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
-from .reference import facing_flags, silhouette_edge_ids
-from .ta import array_true_tally, edges_in, finish, toggle
+from silcount.counting.arithmetic import Memory, OpCounter, plain
+from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, counted_visibility, visibility_true_cost
+from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
+from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
+from silcount.mesh.coplanar import Merge, merge
+from silcount.mesh.lights import Light
+from silcount.mesh.model import Mesh
 
 NAME = "hsd"
 CRITERION = {"intended": "tight", "literal": "facets"}
-REPRESENTATIVE_COST = {"read": 1}      # rep[p]
+REPRESENTATIVE_COST = {"read": 1}  # rep[p]
 
 
 def _naive(mesh: Mesh, light: Light, mg: Merge):
@@ -66,7 +67,7 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
     steps = {"visibility": 0, "search_S": 0, "delete": 0, "add": 0, "shift": 0}
     poly_facing = np.zeros(P, dtype=bool)
     ties = 0
-    for p in range(P):                                          # for each polygon
+    for p in range(P):  # for each polygon
         visible, value = counted_visibility(mem, plain(rep[p]))  # its representative's visibility
         steps["visibility"] += 1
         ties += value == 0.0
@@ -74,8 +75,8 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
         if not visible:
             continue
         first, last = plain(start[p]), plain(start[p + 1])
-        for q in range(first, last):                            # for each boundary side
-            toggle(S, side_from[q], side_to[q], V, steps)       # TA's side step
+        for q in range(first, last):  # for each boundary side
+            toggle(S, side_from[q], side_to[q], V, steps)  # TA's side step
     ids, pairs = edges_in(S, mesh)
     return ids, pairs, steps, dict(counter), ties, poly_facing
 
@@ -90,8 +91,9 @@ def _fast(mesh: Mesh, light: Light, mg: Merge):
     true: dict[str, int] = {}
     add_scaled(true, visibility_true_cost(light), P)
     add_scaled(true, REPRESENTATIVE_COST, P)
-    for kind, c in array_true_tally(r.searched, r.examined, r.deleted, r.added, r.shifted,
-                                    int(np.count_nonzero(poly_facing))).items():
+    for kind, c in array_true_tally(
+        r.searched, r.examined, r.deleted, r.added, r.shifted, int(np.count_nonzero(poly_facing))
+    ).items():
         true[kind] = true.get(kind, 0) + c
     return ids, pairs, steps, true, ties, poly_facing
 
@@ -102,7 +104,23 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     run = _naive if engine == "naive" else _fast
     ids, pairs, steps, true, ties, poly_facing = run(mesh, light, mg)
     inside = int(np.count_nonzero(mg.interior[silhouette_edge_ids(mesh, light)]))
-    notes = {"merge": mg.summary(), "representative": "lowest-index face of each polygon",
-             "reference_edges_inside_polygons": inside}
-    return finish(mesh, light, NAME, variant, engine, ids, pairs, steps, true, ties, poly_facing[mg.region],
-                  paper_params=mg.paper_params(), notes=notes)
+    notes = {
+        "merge": mg.summary(),
+        "representative": "lowest-index face of each polygon",
+        "reference_edges_inside_polygons": inside,
+    }
+    return finish(
+        mesh,
+        light,
+        NAME,
+        variant,
+        engine,
+        ids,
+        pairs,
+        steps,
+        true,
+        ties,
+        poly_facing[mg.region],
+        paper_params=mg.paper_params(),
+        notes=notes,
+    )

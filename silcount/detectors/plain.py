@@ -22,17 +22,18 @@ Sec. VII, EESD paper Sec. 6; ``scripts/bench_render.py``).
 Each returns the ascending edge ids that :func:`silcount.detect` returns for
 the same detector (tested in ``tests/test_plain.py``).
 """
+
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
-from ..coplanar import merge
-from ..lights import DirectionalLight, Light
-from ..mesh import Mesh
-from ..raytrace import _moller_trumbore
-from .eesd import outward_points_and_rays
-from .reference import facing_flags, silhouette_edge_ids
+from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.eesd import outward_points_and_rays
+from silcount.mesh.coplanar import merge
+from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.model import Mesh
+from silcount.mesh.raytrace import _moller_trumbore
 
 PLAIN = ("reference", "ta", "vnv", "hsd", "eesd")
 
@@ -73,8 +74,16 @@ def _vnv(edges, vertices, face_start, corners, light, directional):  # pragma: n
         for f in range(face_start.size - 1):
             s = face_start[f]
             i0, i1, i2 = corners[s], corners[s + 1], corners[s + 2]
-            e1x, e1y, e1z = vertices[i1, 0] - vertices[i0, 0], vertices[i1, 1] - vertices[i0, 1], vertices[i1, 2] - vertices[i0, 2]
-            e2x, e2y, e2z = vertices[i2, 0] - vertices[i0, 0], vertices[i2, 1] - vertices[i0, 1], vertices[i2, 2] - vertices[i0, 2]
+            e1x, e1y, e1z = (
+                vertices[i1, 0] - vertices[i0, 0],
+                vertices[i1, 1] - vertices[i0, 1],
+                vertices[i1, 2] - vertices[i0, 2],
+            )
+            e2x, e2y, e2z = (
+                vertices[i2, 0] - vertices[i0, 0],
+                vertices[i2, 1] - vertices[i0, 1],
+                vertices[i2, 2] - vertices[i0, 2],
+            )
             nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
             if directional:
                 dx, dy, dz = light[0], light[1], light[2]
@@ -106,10 +115,25 @@ def _eesd(origins, directions, t_min, t_max, vertices, face_start, corners):  # 
             a = corners[s]
             for j in range(s + 1, face_start[f + 1] - 1):
                 b, c = corners[j], corners[j + 1]
-                hit, _ = _moller_trumbore(ox, oy, oz, dx, dy, dz,
-                                          vertices[a, 0], vertices[a, 1], vertices[a, 2],
-                                          vertices[b, 0], vertices[b, 1], vertices[b, 2],
-                                          vertices[c, 0], vertices[c, 1], vertices[c, 2], t_min, t_max)
+                hit, _ = _moller_trumbore(
+                    ox,
+                    oy,
+                    oz,
+                    dx,
+                    dy,
+                    dz,
+                    vertices[a, 0],
+                    vertices[a, 1],
+                    vertices[a, 2],
+                    vertices[b, 0],
+                    vertices[b, 1],
+                    vertices[b, 2],
+                    vertices[c, 0],
+                    vertices[c, 1],
+                    vertices[c, 2],
+                    t_min,
+                    t_max,
+                )
                 if hit:
                     hits += 1
                     break
@@ -137,7 +161,9 @@ def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
     if name == "hsd":
         mg = merge(mesh, "tight")
         sides = mg.poly_sides
-        keys = _toggle(mg.poly_start, mesh.side_from[sides], mesh.side_to[sides], facing_flags(mesh, light, mg.rep)[0], V)
+        keys = _toggle(
+            mg.poly_start, mesh.side_from[sides], mesh.side_to[sides], facing_flags(mesh, light, mg.rep)[0], V
+        )
         return _ids_of_keys(mesh, keys)
     directional = isinstance(light, DirectionalLight)
     src = np.asarray(light.direction if directional else light.position, dtype=np.float64)
@@ -145,6 +171,13 @@ def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
         return _vnv(mesh.edges, mesh.vertices, mesh.face_start, mesh.corners, src, directional)
     if name == "eesd":
         _, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
-        return _eesd(np.ascontiguousarray(origins), np.ascontiguousarray(directions), float(t_min), float(t_max),
-                     mesh.vertices, mesh.face_start, mesh.corners)
+        return _eesd(
+            np.ascontiguousarray(origins),
+            np.ascontiguousarray(directions),
+            float(t_min),
+            float(t_max),
+            mesh.vertices,
+            mesh.face_start,
+            mesh.corners,
+        )
     raise ValueError(f"no plain kernel for {name!r}; choose from {', '.join(PLAIN)}")

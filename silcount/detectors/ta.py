@@ -51,30 +51,39 @@ Engines
 ``fast`` replays it with a Fenwick tree (:func:`.edge_array.replay`) and
 charges the same counts.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..counting import Memory, OpCounter, plain
-from ..lights import Light
-from ..mesh import Mesh
-from .base import (MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, unique_ids,
-                   visibility_true_cost)
-from .edge_array import CountedEdgeArray, directed_keys, first_orientation, keys_to_directed, replay
-from .reference import facing_flags
+from silcount.counting.arithmetic import Memory, OpCounter, plain
+from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.base import (
+    MeshMemory,
+    Silhouette,
+    add_scaled,
+    counted_visibility,
+    make_silhouette,
+    unique_ids,
+    visibility_true_cost,
+)
+from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, first_orientation, keys_to_directed, replay
+from silcount.mesh.lights import Light
+from silcount.mesh.model import Mesh
 
 NAME = "ta"
 
 # ``true`` cost of the work around the array, per event (see docs/counting.md).
-FACING_FACE_COST = {"read": 2}                        # face_start[p], face_start[p+1]
-SIDE_COST = {"read": 2, "mul": 1, "add": 1}           # v_p, v_q; reverse key v_q*V + v_p
-ADD_COST = {"mul": 1, "add": 2, "write": 1}           # key v_p*V + v_q; S[len] = key; len + 1
-DELETE_COST = {"add": 1}                              # len - 1
-INIT_COST = {"read": 2, "mul": 1, "add": 2, "write": 1}   # literal start: one packed edge appended
+FACING_FACE_COST = {"read": 2}  # face_start[p], face_start[p+1]
+SIDE_COST = {"read": 2, "mul": 1, "add": 1}  # v_p, v_q; reverse key v_q*V + v_p
+ADD_COST = {"mul": 1, "add": 2, "write": 1}  # key v_p*V + v_q; S[len] = key; len + 1
+DELETE_COST = {"add": 1}  # len - 1
+INIT_COST = {"read": 2, "mul": 1, "add": 2, "write": 1}  # literal start: one packed edge appended
 
 
-def array_true_tally(searched: int, examined: int, deleted: int, added: int, shifted: int,
-                     facing_polygons: int) -> dict[str, int]:
+def array_true_tally(
+    searched: int, examined: int, deleted: int, added: int, shifted: int, facing_polygons: int
+) -> dict[str, int]:
     """``true`` cost of the side loop and S operations from the replay's counts (shared with HSD)."""
     true: dict[str, int] = {}
     add_scaled(true, FACING_FACE_COST, facing_polygons)
@@ -93,22 +102,22 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     V, E, F = mesh.n_vertices, mesh.n_edges, mesh.n_faces
     S = CountedEdgeArray(E + mesh.n_sides, counter)
     steps = {"visibility": 0, "search_S": 0, "delete": 0, "add": 0, "shift": 0}
-    if variant == "literal":                       # "First lets have an array of all edges (S)"
+    if variant == "literal":  # "First lets have an array of all edges (S)"
         table = Memory(mesh.edges.reshape(-1), counter)
         for e in range(E):
             S.append(table[2 * e] * V + table[2 * e + 1])
         steps["init_S"] = E
     flags = np.zeros(F, dtype=bool)
     ties = 0
-    for p in range(F):                                          # For p = 1 to Number Of Faces
-        visible, value = counted_visibility(mem, p)             # If p.visible = True then
+    for p in range(F):  # For p = 1 to Number Of Faces
+        visible, value = counted_visibility(mem, p)  # If p.visible = True then
         steps["visibility"] += 1
         ties += value == 0.0
         flags[p] = visible
         if not visible:
             continue
         first, last = plain(mem.face_start[p]), plain(mem.face_start[p + 1])
-        for q in range(first, last):                            # For q = 1 to Number Of Side
+        for q in range(first, last):  # For q = 1 to Number Of Side
             toggle(S, mem.corners[q], side_to[q], V, steps)
     ids, pairs = edges_in(S, mesh)
     return ids, pairs, steps, dict(counter), ties, flags
@@ -117,13 +126,13 @@ def _naive(mesh: Mesh, light: Light, variant: str):
 def toggle(S: CountedEdgeArray, vp, vq, V: int, steps: dict[str, int]) -> None:
     """One side ``v_p -> v_q`` of a light-facing face: the body of TA's inner loop (also HSD's)."""
     steps["search_S"] += 1
-    pos = S.find(vq * V + vp)                                   # If v_p v_q^-1 belongs to S
+    pos = S.find(vq * V + vp)  # If v_p v_q^-1 belongs to S
     if pos >= 0:
         steps["shift"] += S.length.value - pos - 1
-        S.delete(pos)                                           # Delete it from S
+        S.delete(pos)  # Delete it from S
         steps["delete"] += 1
     else:
-        S.append(vp * V + vq)                                   # Add v_p v_q to S
+        S.append(vp * V + vq)  # Add v_p v_q to S
         steps["add"] += 1
 
 
@@ -149,22 +158,36 @@ def _fast(mesh: Mesh, light: Light, variant: str):
     if variant == "literal":
         steps["init_S"] = E
         add_scaled(true, INIT_COST, E)
-    for kind, c in array_true_tally(r.searched, r.examined, r.deleted, r.added, r.shifted,
-                                    int(np.count_nonzero(is_facing))).items():
+    for kind, c in array_true_tally(
+        r.searched, r.examined, r.deleted, r.added, r.shifted, int(np.count_nonzero(is_facing))
+    ).items():
         true[kind] = true.get(kind, 0) + c
     return ids, pairs, steps, true, ties, is_facing
 
 
-def finish(mesh: Mesh, light: Light, detector: str, variant: str, engine: str, ids: np.ndarray,
-           pairs: np.ndarray, steps: dict, true: dict, ties: int, flags: np.ndarray,
-           paper_params: dict | None = None, notes: dict | None = None) -> Silhouette:
+def finish(
+    mesh: Mesh,
+    light: Light,
+    detector: str,
+    variant: str,
+    engine: str,
+    ids: np.ndarray,
+    pairs: np.ndarray,
+    steps: dict,
+    true: dict,
+    ties: int,
+    flags: np.ndarray,
+    paper_params: dict | None = None,
+    notes: dict | None = None,
+) -> Silhouette:
     """The :class:`Silhouette` of what S holds: unique edges, front-most copy's direction, duplicates noted."""
     unique = unique_ids(ids)
     notes = dict(notes or {})
     notes["S_length"] = int(ids.size)
     notes["duplicates_in_S"] = int(ids.size - unique.size)
-    res = make_silhouette(mesh, light, detector, variant, engine, unique, steps, true, ties, flags,
-                          paper_params=paper_params, notes=notes)
+    res = make_silhouette(
+        mesh, light, detector, variant, engine, unique, steps, true, ties, flags, paper_params=paper_params, notes=notes
+    )
     res.oriented = first_orientation(ids, pairs, unique)
     return res
 

@@ -51,23 +51,31 @@ containment scans of which ``E - m_f`` examine all ``m_f`` sides and the
 ``m_f`` incident ones stop after 1, 2, ..., ``m_f`` sides (a face lists an
 edge once); the counter rises once per incident (edge, facing face) pair.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..counting import Memory, Num, OpCounter, plain
-from ..lights import Light
-from ..mesh import Mesh
-from .base import MeshMemory, Silhouette, add_scaled, counted_visibility, make_silhouette, visibility_true_cost
-from .reference import facing_flags, silhouette_edge_ids
+from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
+from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.base import (
+    MeshMemory,
+    Silhouette,
+    add_scaled,
+    counted_visibility,
+    make_silhouette,
+    visibility_true_cost,
+)
+from silcount.mesh.lights import Light
+from silcount.mesh.model import Mesh
 
 NAME = "vnv"
 
-COUNTER_COST = {"add": 1}             # counter + 1
-CHECK_COST = {"cmp": 1}               # counter == 1 (the counter is a local: no read)
-ADD_COST = {"write": 1}               # S[k] = E
-CONTAINS_COST = {"read": 2}           # face_start[F], face_start[F+1]
-SIDE_EXAMINED_COST = {"read": 1, "cmp": 1}   # side_edge[s] == E
+COUNTER_COST = {"add": 1}  # counter + 1
+CHECK_COST = {"cmp": 1}  # counter == 1 (the counter is a local: no read)
+ADD_COST = {"write": 1}  # S[k] = E
+CONTAINS_COST = {"read": 2}  # face_start[F], face_start[F+1]
+SIDE_EXAMINED_COST = {"read": 1, "cmp": 1}  # side_edge[s] == E
 
 
 def _naive(mesh: Mesh, light: Light, variant: str):
@@ -82,27 +90,27 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     steps = {"visibility": 0, "counter": 0, "check_counter": 0, "add": 0}
     if variant == "intended":
         steps["contains"] = 0
-    count = Num(0, counter)                                     # literal: set once, never reset
-    for e in range(E):                                          # For E = 1 to Number Of Edges
+    count = Num(0, counter)  # literal: set once, never reset
+    for e in range(E):  # For E = 1 to Number Of Edges
         if variant == "intended":
             count = Num(0, counter)
-        for f in range(F):                                      # For F = 1 to Number Of Faces
-            visible, value = counted_visibility(mem, f)         # If F.visible = True then
+        for f in range(F):  # For F = 1 to Number Of Faces
+            visible, value = counted_visibility(mem, f)  # If F.visible = True then
             steps["visibility"] += 1
             if e == 0:
                 flags[f], ties = visible, ties + (value == 0.0)
             if not visible:
                 continue
-            if variant == "intended":                           # ... and F contains E
+            if variant == "intended":  # ... and F contains E
                 steps["contains"] += 1
                 lo, hi = plain(mem.face_start[f]), plain(mem.face_start[f + 1])
-                if not any(side_edge[s] == e for s in range(lo, hi)):   # stops at the match
+                if not any(side_edge[s] == e for s in range(lo, hi)):  # stops at the match
                     continue
-            count = count + 1                                   # E_counter = E_counter + 1
+            count = count + 1  # E_counter = E_counter + 1
             steps["counter"] += 1
         steps["check_counter"] += 1
-        if count == 1:                                          # If e_counter = 1 then
-            S[len(out)] = e                                     # Add E to S
+        if count == 1:  # If e_counter = 1 then
+            S[len(out)] = e  # Add E to S
             out.append(e)
             steps["add"] += 1
     return np.asarray(out, dtype=np.int64), steps, dict(counter), ties, flags
@@ -113,12 +121,12 @@ def _fast(mesh: Mesh, light: Light, variant: str):
     E, F = mesh.n_edges, mesh.n_faces
     n_vis = int(np.count_nonzero(is_facing))
     if variant == "intended":
-        ids = silhouette_edge_ids(mesh, light)   # exactly one light-facing incident face
+        ids = silhouette_edge_ids(mesh, light)  # exactly one light-facing incident face
         m_vis = mesh.face_sizes[is_facing].astype(np.int64)
         examined = int(np.sum((E - m_vis) * m_vis + m_vis * (m_vis + 1) // 2))
         increments = int(m_vis.sum())
     else:
-        ids = np.zeros(1 if n_vis == 1 and E > 0 else 0, dtype=np.int64)   # counter after edge e is e * n_vis
+        ids = np.zeros(1 if n_vis == 1 and E > 0 else 0, dtype=np.int64)  # counter after edge e is e * n_vis
         increments = E * n_vis
     steps = {"visibility": E * F, "counter": increments, "check_counter": E, "add": int(ids.size)}
     true: dict[str, int] = {}

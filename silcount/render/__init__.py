@@ -11,14 +11,22 @@ oriented silhouette) -> ``stencil.py`` (z-pass, z-fail) -> mask.
 planar shadows of the stencil paper Sec. 4, ``shade.py`` the Phong picture,
 ``masks.py`` PNG I/O and mask comparison.
 """
+
 from __future__ import annotations
 
-from .scene import Scene, SceneObject, load_scene
-from .camera import Camera
-from .stencil import StencilResult, render_stencil
-from .masks import compare_masks, read_mask, write_mask
+from silcount.render.camera import Camera
+from silcount.render.masks import compare_masks, read_mask, write_mask
+from silcount.render.scene import Scene, SceneObject, load_scene
+from silcount.render.stencil import StencilResult, render_stencil
 
 __all__ = [
-    "Scene", "SceneObject", "load_scene", "Camera", "StencilResult", "render_stencil",
-    "compare_masks", "read_mask", "write_mask",
+    "Scene",
+    "SceneObject",
+    "load_scene",
+    "Camera",
+    "StencilResult",
+    "render_stencil",
+    "compare_masks",
+    "read_mask",
+    "write_mask",
 ]

@@ -6,6 +6,7 @@ infinity (``w = 0``) lands exactly on the far plane (NDC z = 1) and is never
 clipped.  Pixel ``(row, col)`` samples NDC ``x = 2 (col + 0.5) / W - 1``,
 ``y = 1 - 2 (row + 0.5) / H`` (scene README, "The mask").
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -13,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..errors import BadArgument
+from silcount.errors import BadArgument
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,7 @@ class Camera:
         x = (2.0 * col / self.width - 1.0) * tan_y * self.aspect
         y = (1.0 - 2.0 * row / self.height) * tan_y
         d_eye = np.stack(np.broadcast_arrays(x[None, :], y[:, None], -np.ones((1, 1))), axis=-1)
-        return d_eye @ self.view[:3, :3]      # R^T d  (rows of R are the camera axes)
+        return d_eye @ self.view[:3, :3]  # R^T d  (rows of R are the camera axes)
 
     def eye_depth_from_ndc_z(self, z_ndc: np.ndarray) -> np.ndarray:
         """Invert the infinite projection: ``z_ndc = 1 - 2 near / w``  ->  ``w = -z_eye``."""

@@ -10,6 +10,7 @@ coverage is given), and the *far* mismatches: those more than one pixel
 (8-neighbourhood) from an edge pixel of either mask, an edge pixel being
 one whose value differs from one of its 8 neighbours.
 """
+
 from __future__ import annotations
 
 import os
@@ -19,8 +20,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, UnidentifiedImageError
 
-from ..atomic import atomic_path
-from ..errors import BadArgument, UnreadableInput
+from silcount.atomic import atomic_path
+from silcount.errors import BadArgument, UnreadableInput
 
 
 def write_png(path: str | os.PathLike, pixels: np.ndarray) -> Path:
@@ -31,8 +32,6 @@ def write_png(path: str | os.PathLike, pixels: np.ndarray) -> Path:
     with atomic_path(p) as tmp:
         Image.fromarray(np.ascontiguousarray(pixels)).save(tmp, format="PNG", optimize=False)
     return p
-
-
 
 
 def write_mask(path: str | os.PathLike, mask: np.ndarray) -> Path:
@@ -63,7 +62,7 @@ def edge_pixels(mask: np.ndarray) -> np.ndarray:
     out = np.zeros_like(mask, dtype=bool)
     for dr in (-1, 0, 1):
         for dc in (-1, 0, 1):
-            out |= m[1 + dr:1 + dr + H, 1 + dc:1 + dc + W] != mask
+            out |= m[1 + dr : 1 + dr + H, 1 + dc : 1 + dc + W] != mask
     return out
 
 
@@ -74,7 +73,7 @@ def dilate(mask: np.ndarray) -> np.ndarray:
     out = np.zeros_like(mask, dtype=bool)
     for dr in (0, 1, 2):
         for dc in (0, 1, 2):
-            out |= m[dr:dr + H, dc:dc + W]
+            out |= m[dr : dr + H, dc : dc + W]
     return out
 
 
@@ -82,7 +81,7 @@ def dilate(mask: np.ndarray) -> np.ndarray:
 class Comparison:
     covered: int
     mismatched: int
-    far: int                      # mismatches more than one pixel from any edge of either mask
+    far: int  # mismatches more than one pixel from any edge of either mask
     tol: float
 
     @property
@@ -94,8 +93,10 @@ class Comparison:
         return self.far == 0 and self.fraction <= self.tol
 
     def describe(self) -> str:
-        return (f"{self.mismatched} of {self.covered} covered pixels differ ({self.fraction:.6f}, tolerance {self.tol}); "
-                f"{self.far} of them more than one pixel from an edge of either mask")
+        return (
+            f"{self.mismatched} of {self.covered} covered pixels differ ({self.fraction:.6f}, tolerance {self.tol}); "
+            f"{self.far} of them more than one pixel from an edge of either mask"
+        )
 
 
 def compare_masks(a: np.ndarray, b: np.ndarray, coverage: np.ndarray | None = None, tol: float = 0.005) -> Comparison:

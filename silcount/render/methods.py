@@ -6,18 +6,19 @@ z-pass, where the count is wrong by the number of volumes holding the eye).
 For ``planar`` the variant selects the shadow matrix (:mod:`.planar`); for
 the stencil methods it is passed to the detector.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import BadArgument
-from .camera import Camera
-from .planar import planar_mask
-from .raycast import raycast
-from .scene import Scene
-from .stencil import depth_pass, render_stencil
+from silcount.errors import BadArgument
+from silcount.render.camera import Camera
+from silcount.render.planar import planar_mask
+from silcount.render.raycast import raycast
+from silcount.render.scene import Scene
+from silcount.render.stencil import depth_pass, render_stencil
 
 METHODS = ("zpass", "zfail", "planar", "raycast")
 
@@ -47,12 +48,15 @@ def render_method(scene: Scene, method: str, detector: str = "reference", varian
     messages = list(res.warnings)
     if res.eye_in_shadow:
         if method == "zpass":
-            messages.append("the eye is inside a shadow volume: z-pass counts from the eye, and the near plane cuts "
-                            "the volume, so every count is off and this mask is wrong; use --method zfail")
+            messages.append(
+                "the eye is inside a shadow volume: z-pass counts from the eye, and the near plane cuts "
+                "the volume, so every count is off and this mask is wrong; use --method zfail"
+            )
         else:
             messages.append("the eye is inside a shadow volume (z-fail counts from infinity and is unaffected)")
-    return Rendered(res.mask, res.coverage, res.scene.tri_id, camera.eye_depth_from_ndc_z(res.scene.depth),
-                    messages, res.timings)
+    return Rendered(
+        res.mask, res.coverage, res.scene.tri_id, camera.eye_depth_from_ndc_z(res.scene.depth), messages, res.timings
+    )
 
 
 __all__ = ["METHODS", "Rendered", "render_method"]

@@ -23,16 +23,17 @@ vertices are coplanar.  The mask is the floor pixels covered by the
 projected caster triangles (depth is ignored on the plane, as the paper's
 stencil-restricted drawing does); casters receive nothing from this method.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import BadArgument
-from ..lights import DirectionalLight, Light
-from .camera import Camera
-from .raster import DEPTH, homogeneous, new_buffers, rasterize, to_clip
-from .scene import Scene
-from .stencil import SceneDepth, depth_pass
+from silcount.errors import BadArgument
+from silcount.mesh.lights import DirectionalLight, Light
+from silcount.render.camera import Camera
+from silcount.render.raster import DEPTH, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.scene import Scene
+from silcount.render.stencil import SceneDepth, depth_pass
 
 VARIANTS = ("intended", "literal")
 
@@ -74,10 +75,12 @@ def shadow_matrix(normal: np.ndarray, offset: float, light: Light, variant: str 
         M[3] = [*N, -D]
         return M
     pi = np.append(N, -D)
-    return (pi @ l) * np.eye(4) - np.outer(l, pi)   # w = N.L - N.P (point light), N.d (directional)
+    return (pi @ l) * np.eye(4) - np.outer(l, pi)  # w = N.L - N.P (point light), N.d (directional)
 
 
-def planar_mask(scene: Scene, variant: str = "intended", depth: SceneDepth | None = None) -> tuple[np.ndarray, np.ndarray]:
+def planar_mask(
+    scene: Scene, variant: str = "intended", depth: SceneDepth | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """(mask, floor pixels): the floor pixels covered by the casters' projected triangles."""
     camera = Camera.of(scene)
     sd = depth if depth is not None else depth_pass(scene, camera)

@@ -23,6 +23,7 @@ Modes: ``DEPTH`` writes depth and a triangle id; ``ZPASS`` adds +1 (front)
 (back) / -1 (front) where it fails: the two-sided stencil of the stencil
 paper Sec. 5 steps (4)-(5) and of Everitt & Kilgard 2002.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,16 +41,16 @@ _MAXV = 16
 @njit(cache=True)
 def _plane_distance(p, k, guard):
     if k == 0:
-        return p[2] + p[3]            # near: z >= -w
+        return p[2] + p[3]  # near: z >= -w
     if k == 1:
-        return guard * p[3] + p[0]    # x >= -g w
+        return guard * p[3] + p[0]  # x >= -g w
     if k == 2:
-        return guard * p[3] - p[0]    # x <= g w
+        return guard * p[3] - p[0]  # x <= g w
     if k == 3:
         return guard * p[3] + p[1]
     if k == 4:
         return guard * p[3] - p[1]
-    return p[3] - _W_MIN              # w > 0
+    return p[3] - _W_MIN  # w > 0
 
 
 @njit(cache=True)
@@ -96,7 +97,7 @@ def _span(ax, ay, bx, by, bias, py, lo, hi):
     # E(c) = (bx - ax)(py - ay) - (by - ay)(c S + S/2 - ax) = base + step c
     base = (bx - ax) * (py - ay) - (by - ay) * (SUBPIXEL // 2 - ax)
     step = -(by - ay) * SUBPIXEL
-    k = -(base + bias)                    # need step * c > k
+    k = -(base + bias)  # need step * c > k
     if step > 0:
         lo = max(lo, k // step + 1)
     elif step < 0:
@@ -178,19 +179,52 @@ def rasterize(clip, ids, mode, depth, stencil, tri_id):
         for k in range(1, n - 1):
             a2 = (X[k] - X[0]) * (Y[k + 1] - Y[0]) - (Y[k] - Y[0]) * (X[k + 1] - X[0])
             if a2 == 0 or (a2 > 0) != (area > 0):
-                continue          # a sliver that snapping collapsed or flipped
+                continue  # a sliver that snapping collapsed or flipped
             if area > 0:
-                _fill(X[0], Y[0], Z[0], X[k], Y[k], Z[k], X[k + 1], Y[k + 1], Z[k + 1],
-                      front, mode, ids[t], depth, stencil, tri_id)
+                _fill(
+                    X[0],
+                    Y[0],
+                    Z[0],
+                    X[k],
+                    Y[k],
+                    Z[k],
+                    X[k + 1],
+                    Y[k + 1],
+                    Z[k + 1],
+                    front,
+                    mode,
+                    ids[t],
+                    depth,
+                    stencil,
+                    tri_id,
+                )
             else:
-                _fill(X[0], Y[0], Z[0], X[k + 1], Y[k + 1], Z[k + 1], X[k], Y[k], Z[k],
-                      front, mode, ids[t], depth, stencil, tri_id)
+                _fill(
+                    X[0],
+                    Y[0],
+                    Z[0],
+                    X[k + 1],
+                    Y[k + 1],
+                    Z[k + 1],
+                    X[k],
+                    Y[k],
+                    Z[k],
+                    front,
+                    mode,
+                    ids[t],
+                    depth,
+                    stencil,
+                    tri_id,
+                )
 
 
 def new_buffers(width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Depth (cleared to the far plane, 1), stencil (0) and triangle id (-1) buffers."""
-    return (np.ones((height, width)), np.zeros((height, width), dtype=np.int32),
-            np.full((height, width), -1, dtype=np.int64))
+    return (
+        np.ones((height, width)),
+        np.zeros((height, width), dtype=np.int32),
+        np.full((height, width), -1, dtype=np.int64),
+    )
 
 
 def to_clip(points_h: np.ndarray, view_projection: np.ndarray) -> np.ndarray:

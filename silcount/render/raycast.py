@@ -11,28 +11,29 @@ hits start at the near plane, as the rasteriser clips), then
   light; to infinity for a directional light), decides.
 
 It shares no code with the stencil path but the scene reader and the
-camera's pixel-centre convention: the tracer is :class:`silcount.raytrace.RayTracer`.
+camera's pixel-centre convention: the tracer is :class:`silcount.mesh.raytrace.RayTracer`.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..lights import DirectionalLight, facing_values
-from ..raytrace import RayTracer
-from .camera import Camera
-from .scene import Scene
+from silcount.mesh.lights import DirectionalLight, facing_values
+from silcount.mesh.raytrace import RayTracer
+from silcount.render.camera import Camera
+from silcount.render.scene import Scene
 
 SHADOW_T_MIN = 1e-9
 
 
 @dataclass
 class RaycastResult:
-    mask: np.ndarray        # (H, W) bool
-    coverage: np.ndarray    # (H, W) bool
-    tri_id: np.ndarray      # (H, W) first-hit triangle in scene order, -1 none
-    depth_t: np.ndarray     # (H, W) eye depth of the first hit, inf none
+    mask: np.ndarray  # (H, W) bool
+    coverage: np.ndarray  # (H, W) bool
+    tri_id: np.ndarray  # (H, W) first-hit triangle in scene order, -1 none
+    depth_t: np.ndarray  # (H, W) eye depth of the first hit, inf none
 
 
 def raycast(scene: Scene) -> RaycastResult:
@@ -61,7 +62,8 @@ def raycast(scene: Scene) -> RaycastResult:
             to_light, t_max = np.broadcast_to(np.asarray(scene.light.direction), points.shape), np.inf
         else:
             to_light, t_max = np.asarray(scene.light.position) - points, 1.0
-        blocked = RayTracer(tris[caster_ids]).any_hit(points, to_light, t_min=SHADOW_T_MIN, t_max=t_max,
-                                                      ignore=local[tri[rest]])
+        blocked = RayTracer(tris[caster_ids]).any_hit(
+            points, to_light, t_min=SHADOW_T_MIN, t_max=t_max, ignore=local[tri[rest]]
+        )
         mask[rest[blocked]] = True
     return RaycastResult(mask.reshape(H, W), hit.reshape(H, W), tri.reshape(H, W), t.reshape(H, W))

@@ -4,9 +4,10 @@ Transform order, exactly as the contract says: ``scale`` (number or
 ``[sx, sy, sz]``), then ``rotate_deg`` about world X, then Y, then Z
 (right-handed, counter-clockwise seen from the positive end of the axis, as
 ``glRotate``), then ``translate``.  Vertices are used as stored: the mesh is
-read with :func:`silcount.io.load_mesh`, whose exact-position welding moves
+read with :func:`silcount.mesh.io.load_mesh`, whose exact-position welding moves
 no coordinate, so every world triangle has the coordinates the file gives.
 """
+
 from __future__ import annotations
 
 import json
@@ -17,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import BadArgument, UnreadableInput
-from ..io import load_mesh
-from ..lights import DirectionalLight, Light, PointLight
-from ..mesh import Mesh, from_polygons
+from silcount.errors import BadArgument, UnreadableInput
+from silcount.mesh.io import load_mesh
+from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.model import Mesh, from_polygons
 
 SPEC = "silcount-scene/1"
 
@@ -40,7 +41,7 @@ class SceneObject:
     """One object: its world-space triangle mesh and whether it casts shadows."""
 
     name: str
-    mesh: Mesh                   # world-space, welded (triangles)
+    mesh: Mesh  # world-space, welded (triangles)
     casts_shadow: bool
 
     @property
@@ -84,8 +85,18 @@ class Scene:
 
     def with_resolution(self, width: int, height: int) -> "Scene":
         """The same scene sampled at another resolution (tests render small)."""
-        return Scene(self.path, int(width), int(height), self.eye, self.target, self.up, self.fov_y_deg,
-                     self.near, self.light, self.objects)
+        return Scene(
+            self.path,
+            int(width),
+            int(height),
+            self.eye,
+            self.target,
+            self.up,
+            self.fov_y_deg,
+            self.near,
+            self.light,
+            self.objects,
+        )
 
 
 def _vec(value, what: str, path: Path) -> np.ndarray:
@@ -123,7 +134,9 @@ def load_scene(path: str | os.PathLike) -> Scene:
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise UnreadableInput(f"{p}: not a readable JSON scene: {exc}") from None
     if not isinstance(doc, dict) or doc.get("spec") != SPEC:
-        raise UnreadableInput(f"{p}: not a {SPEC} file (spec field is {doc.get('spec') if isinstance(doc, dict) else None!r})")
+        raise UnreadableInput(
+            f"{p}: not a {SPEC} file (spec field is {doc.get('spec') if isinstance(doc, dict) else None!r})"
+        )
     try:
         width, height = (int(v) for v in doc["resolution"])
         cam, light_spec, objs = doc["camera"], doc["light"], doc["objects"]
@@ -142,5 +155,15 @@ def load_scene(path: str | os.PathLike) -> Scene:
     objects = [_object(o, p.parent, p) for o in objs]
     if not objects:
         raise UnreadableInput(f"{p}: the scene has no objects")
-    return Scene(p, width, height, _vec(cam["eye"], "camera eye", p), _vec(cam["target"], "camera target", p),
-                 _vec(cam["up"], "camera up", p), fov, near, light, objects)
+    return Scene(
+        p,
+        width,
+        height,
+        _vec(cam["eye"], "camera eye", p),
+        _vec(cam["target"], "camera target", p),
+        _vec(cam["up"], "camera up", p),
+        fov,
+        near,
+        light,
+        objects,
+    )

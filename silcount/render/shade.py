@@ -6,17 +6,26 @@ surface point, dot products clamped at 0; pixels in shadow get the ambient
 term only (the paper's step (1): "render all scene just with ambient").
 Each object has its own colour; the background is dark grey.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..lights import DirectionalLight
-from .camera import Camera
-from .scene import Scene
+from silcount.mesh.lights import DirectionalLight
+from silcount.render.camera import Camera
+from silcount.render.scene import Scene
 
 KA, KD, KS, SHININESS, IA, IL = 0.25, 0.75, 0.35, 32.0, 1.0, 1.0
-PALETTE = np.array([[0.80, 0.80, 0.78], [0.85, 0.45, 0.30], [0.35, 0.55, 0.85], [0.45, 0.75, 0.40],
-                    [0.85, 0.75, 0.35], [0.65, 0.45, 0.80]])
+PALETTE = np.array(
+    [
+        [0.80, 0.80, 0.78],
+        [0.85, 0.45, 0.30],
+        [0.35, 0.55, 0.85],
+        [0.45, 0.75, 0.40],
+        [0.85, 0.75, 0.35],
+        [0.65, 0.45, 0.80],
+    ]
+)
 BACKGROUND = np.array([0.12, 0.12, 0.14])
 
 

@@ -22,6 +22,7 @@ fails there, which counts it, as z-fail needs.  Z-pass needs no caps, but
 it is wrong when the eye is inside a volume: the near plane cuts the
 volume, the entering faces are lost (:func:`eye_in_shadow` reports that).
 """
+
 from __future__ import annotations
 
 import time
@@ -29,12 +30,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..detectors import detect
-from ..lights import DirectionalLight
-from .camera import Camera
-from .raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
-from .scene import Scene
-from .volumes import Volume, build_volume
+from silcount.detectors import detect
+from silcount.mesh.lights import DirectionalLight
+from silcount.render.camera import Camera
+from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.scene import Scene
+from silcount.render.volumes import Volume, build_volume
 
 METHODS = ("zpass", "zfail")
 
@@ -54,12 +55,12 @@ class SceneDepth:
 
 @dataclass
 class StencilResult:
-    mask: np.ndarray               # (H, W) bool, in shadow
-    coverage: np.ndarray           # (H, W) bool
-    stencil: np.ndarray            # (H, W) int32
+    mask: np.ndarray  # (H, W) bool, in shadow
+    coverage: np.ndarray  # (H, W) bool
+    stencil: np.ndarray  # (H, W) int32
     scene: SceneDepth
     volumes: list[Volume]
-    timings: dict[str, float]      # seconds: silhouette, volume, raster
+    timings: dict[str, float]  # seconds: silhouette, volume, raster
     eye_in_shadow: bool
     warnings: list[str] = field(default_factory=list)
 
@@ -113,14 +114,21 @@ def open_caster_warnings(scene: Scene) -> list[str]:
         bad = np.concatenate([m.boundary_edges, m.nonmanifold_edges, m.inconsistent_edges])
         shown = ", ".join(f"{a}-{b}" for a, b in m.edges[bad[:8]].tolist())
         more = f" (and {bad.size - 8} more)" if bad.size > 8 else ""
-        out.append(f"caster {o.name!r} is not closed and consistently wound: stencil counts are not exact; "
-                   f"{m.boundary_edges.size} boundary, {m.nonmanifold_edges.size} non-manifold, "
-                   f"{m.inconsistent_edges.size} inconsistently wound edges (vertex pairs {shown}{more})")
+        out.append(
+            f"caster {o.name!r} is not closed and consistently wound: stencil counts are not exact; "
+            f"{m.boundary_edges.size} boundary, {m.nonmanifold_edges.size} non-manifold, "
+            f"{m.inconsistent_edges.size} inconsistently wound edges (vertex pairs {shown}{more})"
+        )
     return out
 
 
-def render_stencil(scene: Scene, method: str = "zfail", detector: str = "reference", variant: str = "intended",
-                   depth: SceneDepth | None = None) -> StencilResult:
+def render_stencil(
+    scene: Scene,
+    method: str = "zfail",
+    detector: str = "reference",
+    variant: str = "intended",
+    depth: SceneDepth | None = None,
+) -> StencilResult:
     """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}")
@@ -142,7 +150,7 @@ def render_stencil(scene: Scene, method: str = "zfail", detector: str = "referen
         vol = build_volume(obj.mesh, scene.light, silhouette=sil)
         parts = [to_clip(vol.sides, camera.view_projection)]
         if method == "zfail":
-            parts.append(sd.clip[offsets[k]:offsets[k + 1]][vol.lit_faces])
+            parts.append(sd.clip[offsets[k] : offsets[k + 1]][vol.lit_faces])
             parts.append(to_clip(vol.dark_cap, camera.view_projection))
         clip = np.ascontiguousarray(np.concatenate(parts, axis=0))
         t2 = time.perf_counter()
@@ -153,5 +161,6 @@ def render_stencil(scene: Scene, method: str = "zfail", detector: str = "referen
         timings["raster"] += t3 - t2
         volumes.append(vol)
     mask = sd.coverage & (stencil != 0)
-    return StencilResult(mask, sd.coverage, stencil, sd, volumes, timings, eye_in_shadow(scene),
-                         open_caster_warnings(scene))
+    return StencilResult(
+        mask, sd.coverage, stencil, sd, volumes, timings, eye_in_shadow(scene), open_caster_warnings(scene)
+    )

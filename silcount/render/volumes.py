@@ -17,17 +17,18 @@ Light-facing is the detectors' rule (:func:`silcount.detectors.reference.facing_
 ``(L - p0) . n > 0``).  For a directional light every far vertex is the one
 point ``(-d, 0)``: the sides are triangles and the dark cap vanishes.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..detectors import detect
-from ..detectors.base import Silhouette
-from ..detectors.reference import facing_flags
-from ..lights import DirectionalLight, Light
-from ..mesh import Mesh
+from silcount.detectors import detect
+from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.base import Silhouette
+from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.model import Mesh
 
 
 @dataclass
@@ -35,9 +36,9 @@ class Volume:
     """The shadow volume of one caster, in homogeneous world coordinates."""
 
     silhouette: Silhouette
-    sides: np.ndarray          # (S, 3, 4) side triangles, two per silhouette edge (one if directional)
-    lit_faces: np.ndarray      # (F,) bool: the light cap (the caller reuses the scene's own triangles)
-    dark_cap: np.ndarray       # (D, 3, 4) unlit faces at infinity (empty for a directional light)
+    sides: np.ndarray  # (S, 3, 4) side triangles, two per silhouette edge (one if directional)
+    lit_faces: np.ndarray  # (F,) bool: the light cap (the caller reuses the scene's own triangles)
+    dark_cap: np.ndarray  # (D, 3, 4) unlit faces at infinity (empty for a directional light)
 
 
 def to_infinity(points: np.ndarray, light: Light) -> np.ndarray:
@@ -63,11 +64,16 @@ def side_triangles(mesh: Mesh, oriented: np.ndarray, light: Light) -> np.ndarray
     return np.concatenate([first, np.stack([bh, ai, bi], axis=1)], axis=0)
 
 
-def build_volume(mesh: Mesh, light: Light, detector: str = "reference", variant: str = "intended",
-                 silhouette: Silhouette | None = None) -> Volume:
+def build_volume(
+    mesh: Mesh,
+    light: Light,
+    detector: str = "reference",
+    variant: str = "intended",
+    silhouette: Silhouette | None = None,
+) -> Volume:
     """Run ``detector`` (engine ``fast``) and build the caster's volume; pass ``silhouette`` to reuse one."""
     sil = silhouette if silhouette is not None else detect(mesh, light, detector, variant=variant, engine="fast")
-    lit, _ = facing_flags(mesh, light)     # the detectors' own facing test: caps agree with the sides
+    lit, _ = facing_flags(mesh, light)  # the detectors' own facing test: caps agree with the sides
     if isinstance(light, DirectionalLight):
         dark = np.zeros((0, 3, 4))
     else:

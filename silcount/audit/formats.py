@@ -1,0 +1,173 @@
+"""Rendering audits as text (terminal tables), Markdown or JSON, deterministically.
+
+Numbers are formatted by :func:`fmt`: integers in full, other floats with
+six significant digits; JSON keeps full ``repr`` precision (input
+coordinates must survive exactly) and sorted-as-built keys.  Nothing here
+computes: it only lays out the dictionary built by :mod:`silcount.audit.run`.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from silcount.atomic import write_text
+from silcount.counting.arithmetic import KINDS
+
+FORMATS = ("text", "md", "json")
+
+
+def fmt(x) -> str:
+    """Stable human formatting: ``-`` for missing, ints in full, floats to 6 significant digits."""
+    if x is None:
+        return "-"
+    if isinstance(x, bool):
+        return "yes" if x else "no"
+    if isinstance(x, int):
+        return str(x)
+    if isinstance(x, float):
+        return f"{x:.6g}"
+    return str(x)
+
+
+def table(header: list[str], rows: list[list[str]], markdown: bool) -> list[str]:
+    """Aligned plain-text or Markdown table lines."""
+    if markdown:
+        out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+        return out + ["| " + " | ".join(r) + " |" for r in rows]
+    widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)]
+    line = lambda cells: "  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(cells, widths)))
+    return [line(header), line(["-" * w for w in widths])] + [line(r) for r in rows]
+
+
+def _kinds(entries: list[dict], model: str) -> list[str]:
+    extra = sorted({k for e in entries for k in e["tallies"][model] if k not in KINDS})
+    return list(KINDS) + extra
+
+
+def _detector_table(detectors: dict, model: str, markdown: bool) -> list[str]:
+    kinds = _kinds(list(detectors.values()), model)
+    header = ["detector", "edges", "agrees", *kinds, "cycles", "printed cycles", "measured/printed", "time s"]
+    rows = []
+    for key, d in detectors.items():
+        printed = d["formula_printed"]
+        rows.append(
+            [
+                key,
+                fmt(d["silhouette_edges"]),
+                fmt(d["agrees_with_reference"]),
+                *(fmt(d["tallies"][model].get(k, 0)) for k in kinds),
+                fmt(d["cycles"][model]),
+                fmt(printed["cycles"]) if printed else "-",
+                fmt(printed["cycles_ratio"][model]) if printed else "-",
+                fmt(d["time_s"]),
+            ]
+        )
+    return table(header, rows, markdown)
+
+
+def _mesh_lines(mesh: dict, markdown: bool) -> list[str]:
+    rows = [
+        [k, fmt(mesh[k])]
+        for k in (
+            "vertices",
+            "faces",
+            "edges",
+            "mean_sides",
+            "closed",
+            "consistently_wound",
+            "boundary_edges",
+            "nonmanifold_edges",
+            "inconsistent_edges",
+            "degenerate_faces",
+            "zero_normal_faces",
+            "duplicate_faces",
+            "collapsed_faces_dropped",
+            "components",
+            "euler_characteristic",
+            "genus",
+        )
+    ]
+    cop = mesh.get("coplanar")
+    if cop:
+        rows += [
+            ["coplanar polygons (HSD)", fmt(cop["polygons"])],
+            ["polygon mean sides m (HSD)", fmt(cop["mean_sides"])],
+        ]
+    rows += [[f"{r} (paper assumes {fmt(mesh['paper_ratios'][r])})", fmt(v)] for r, v in mesh["ratios"].items()]
+    return table(["mesh statistic", "value"], rows, markdown)
+
+
+def _light_text(light: dict) -> str:
+    where = light.get("position") or light.get("direction")
+    return f"{light['kind']} ({', '.join(fmt(c) for c in where)})"
+
+
+def render_text(audit: dict, markdown: bool = False) -> str:
+    """The audit as readable tables (``markdown=True``: for a paper or an issue thread)."""
+    h = (lambda s: f"## {s}") if markdown else (lambda s: f"{s}:")
+    s = audit["settings"]
+    n = len(audit["lights"])
+    out = [
+        ("# " if markdown else "") + f"silcount audit of {audit['source']}",
+        "",
+        f"silcount {audit['silcount_version']}, engine {s['engine']}, variants {', '.join(s['variants'])}, "
+        f"cycle profile {s['cycles']}",
+        "",
+        h("Mesh"),
+        "",
+        *_mesh_lines(audit["mesh"], markdown),
+        "",
+        h(f"Lights ({n})"),
+        "",
+    ]
+    out += [
+        f"- {i}: {_light_text(l)}"
+        + (f", ties {l['ties']}" if l["ties"] else "")
+        + (", inside the mesh" if l.get("inside") else "")
+        for i, l in enumerate(audit["lights"])
+    ]
+    out += ["", h("Warnings"), ""] + ([f"- {w}" for w in audit["warnings"]] or ["- none"])
+    scope = "summed over the lights" if n > 1 else "one light"
+    for model in ("paper", "true"):
+        out += [
+            "",
+            h(f"Detectors, {model} cost model ({scope})"),
+            "",
+            *_detector_table(audit["detectors"], model, markdown),
+        ]
+    printed = [(k, d["formula_printed"]) for k, d in audit["detectors"].items() if d["formula_printed"]]
+    if printed:
+        out += ["", h("Printed formulas at this mesh (per light)"), ""]
+        out += table(
+            ["detector", "source", "n", "m", *KINDS],
+            [
+                [
+                    k,
+                    fmt(p.get("source")),
+                    fmt(p.get("n")),
+                    fmt(p.get("m")),
+                    *(fmt(p["tally"].get(kind)) for kind in KINDS),
+                ]
+                for k, p in printed
+            ],
+            markdown,
+        )
+    return "\n".join(out) + "\n"
+
+
+def render_json(audit: dict) -> str:
+    return json.dumps(audit, indent=1, allow_nan=False) + "\n"
+
+
+def render(audit: dict, form: str) -> str:
+    if form == "json":
+        return render_json(audit)
+    return render_text(audit, markdown=form == "md")
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (:mod:`silcount.atomic`), creating missing directories."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_text(path, text)

@@ -1,0 +1,260 @@
+"""The audit of one mesh: every detector, every light, both cost models.  No formatting here.
+
+:func:`run_audit` returns a JSON-ready ``dict`` (schema ``silcount-audit/1``,
+documented in ``docs/audit.md``); :mod:`silcount.audit.formats` renders it.
+
+Decisions, named:
+
+* **Default lights**: :data:`DEFAULT_LIGHT_COUNT` point lights, directions
+  drawn from a normal distribution with ``numpy.random.default_rng(seed)``
+  and normalised, placed at :data:`LIGHT_DISTANCE` times the bounding radius
+  from the bounding-box centre.
+* **Aggregate over lights**: ``silhouette_edges``, ``tallies``, ``steps``,
+  ``cycles``, ``missed_edges``, ``extra_edges`` and ``time_s`` are *sums* over
+  the lights; ``agrees_with_reference`` holds iff it holds for every light.
+  ``formula_printed`` is per light (the formula does not depend on the light);
+  its ratios compare the summed measurement with ``lights x printed``.
+* **Agreement** is exact equality of edge sets with the ``reference``
+  detector's, which is always run (and reported only when asked for).
+* **Cycles**: tallies weighted by a cycle profile (``paper``: the EESD
+  paper's Mult 4, Add 2, Compare 3, Read 1, Write 2, EESD 2012 Sec. 6); see
+  :mod:`silcount.audit.costs`.
+* **Dubious input is audited, with warnings**: a light exactly on the plane
+  of some faces (ties, not light-facing), a point light inside the mesh
+  (generalised winding number above one half), an open, non-manifold,
+  inconsistently wound mesh, degenerate or duplicate faces.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from silcount.audit.costs import cycle_profile, printed_formula, weighted
+from silcount.counting.arithmetic import KINDS
+from silcount.detectors import DETECTORS, detect
+from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.model import Mesh
+from silcount.mesh.stats import mesh_statistics, mesh_warnings
+from silcount.progress import progress
+from silcount.version import __version__
+
+SCHEMA = "silcount-audit/1"
+DEFAULT_LIGHT_COUNT = 16
+DEFAULT_SEED = 0
+LIGHT_DISTANCE = 3.0
+
+
+@dataclass(frozen=True)
+class AuditSettings:
+    """What to run: detectors, variants (``intended``/``literal``), engine, cycle profile."""
+
+    detectors: tuple[str, ...] = DETECTORS
+    variants: tuple[str, ...] = ("intended",)
+    engine: str = "fast"
+    cycles: str = "paper"
+    with_edges: bool = False
+    with_time: bool = True
+
+
+def random_lights(mesh: Mesh, count: int = DEFAULT_LIGHT_COUNT, seed: int = DEFAULT_SEED) -> list[PointLight]:
+    """``count`` point lights uniformly on the sphere of ``LIGHT_DISTANCE`` x the bounding radius."""
+    rng = np.random.default_rng(seed)
+    dirs = rng.normal(size=(count, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    radius = LIGHT_DISTANCE * max(mesh.bounding_radius, 1e-12)
+    return [PointLight(mesh.centre + radius * d) for d in dirs]
+
+
+def winding_number(mesh: Mesh, point) -> float:
+    """Generalised winding number of the faces (fan-triangulated) about ``point``.
+
+    1 inside and 0 outside a closed outward-wound mesh; fractional on open
+    ones.  Van Oosterom & Strackee's solid angle, summed over triangles.
+    """
+    fan = mesh.face_sizes - 2  # triangles per polygon
+    first = np.repeat(mesh.face_start[:-1], fan)
+    offs = np.arange(fan.sum()) - np.repeat(np.cumsum(fan) - fan, fan) + 1
+    a = mesh.vertices[mesh.corners[first]] - point
+    b = mesh.vertices[mesh.corners[first + offs]] - point
+    c = mesh.vertices[mesh.corners[first + offs + 1]] - point
+    la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    den = (
+        la * lb * lc
+        + np.einsum("ij,ij->i", a, b) * lc
+        + np.einsum("ij,ij->i", b, c) * la
+        + np.einsum("ij,ij->i", c, a) * lb
+    )
+    with np.errstate(invalid="ignore", divide="ignore"):
+        omega = 2.0 * np.arctan2(num, den)
+    return float(np.nansum(omega) / (4.0 * np.pi))
+
+
+def describe_light(light: Light) -> dict:
+    if isinstance(light, DirectionalLight):
+        return {"kind": "directional", "direction": list(light.direction)}
+    return {"kind": "point", "position": list(light.position)}
+
+
+def _light_checks(mesh: Mesh, light: Light, ties: int, index: int) -> tuple[dict, list[str]]:
+    info = describe_light(light)
+    info["ties"] = ties
+    warnings = []
+    if ties:
+        warnings.append(f"light {index}: on the plane of {ties} faces (ties: not light-facing)")
+    if isinstance(light, PointLight):
+        w = winding_number(mesh, np.asarray(light.position))
+        info["winding_number"] = w
+        info["inside"] = bool(abs(w) > 0.5)
+        if info["inside"]:
+            warnings.append(f"light {index}: inside the mesh (winding number {w:.3g}): every face sees its back")
+    return info, warnings
+
+
+def _runs(settings: AuditSettings) -> list[tuple[str, str, str]]:
+    """(key, detector, variant) for every requested run; ``reference`` has one variant."""
+    out = []
+    for name in settings.detectors:
+        for variant in ("intended",) if name == "reference" else settings.variants:
+            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+    return out
+
+
+def _ratios(measured: dict[str, int], printed: dict[str, float], lights: int) -> dict[str, float | None]:
+    return {k: (measured.get(k, 0) / (lights * v) if v else None) for k, v in printed.items()}
+
+
+def _one_run(
+    mesh: Mesh,
+    light: Light,
+    name: str,
+    variant: str,
+    settings: AuditSettings,
+    ref_ids: np.ndarray,
+    profile: tuple[str, dict],
+) -> dict:
+    t0 = time.perf_counter()
+    res = detect(mesh, light, name, variant=variant, engine=settings.engine)
+    elapsed = time.perf_counter() - t0
+    missed = int(np.setdiff1d(ref_ids, res.edge_ids).size)
+    extra = int(np.setdiff1d(res.edge_ids, ref_ids).size)
+    tallies = {model: {k: int(v) for k, v in sorted(t.items(), key=_kind_order)} for model, t in res.tally.items()}
+    out = {
+        "detector": name,
+        "variant": variant,
+        "silhouette_edges": res.n_edges,
+        "agrees_with_reference": missed == 0 and extra == 0,
+        "missed_edges": missed,
+        "extra_edges": extra,
+        "tallies": tallies,
+        "steps": dict(sorted(res.steps.items())),
+        "cycles": {model: weighted(t, profile[1]) for model, t in tallies.items()},
+        "formula_printed": printed_formula(name, mesh, res.notes),
+        "time_s": elapsed if settings.with_time else None,
+    }
+    _with_ratios(out, profile, 1)
+    if settings.with_edges:
+        out["edges"] = mesh.vertices[res.edges].tolist()
+    return out
+
+
+def _kind_order(item: tuple[str, int]) -> tuple[int, str]:
+    k = item[0]
+    return (KINDS.index(k) if k in KINDS else len(KINDS), k)
+
+
+def _add_counts(total: dict[str, int], part: dict[str, int]) -> dict[str, int]:
+    out = dict(total)
+    for k, v in part.items():
+        out[k] = out.get(k, 0) + v
+    return dict(sorted(out.items(), key=_kind_order))
+
+
+def _aggregate(results: list[dict], with_time: bool) -> dict:
+    first = results[0]
+    agg = {
+        "detector": first["detector"],
+        "variant": first["variant"],
+        "silhouette_edges": sum(r["silhouette_edges"] for r in results),
+        "agrees_with_reference": all(r["agrees_with_reference"] for r in results),
+        "lights_agreeing": sum(r["agrees_with_reference"] for r in results),
+        "missed_edges": sum(r["missed_edges"] for r in results),
+        "extra_edges": sum(r["extra_edges"] for r in results),
+        "tallies": {},
+        "steps": {},
+        "cycles": {},
+        "formula_printed": first["formula_printed"]
+        and {k: v for k, v in first["formula_printed"].items() if k not in ("ratio", "cycles_ratio")},
+        "time_s": sum(r["time_s"] for r in results) if with_time else None,
+    }
+    for r in results:
+        for model, t in r["tallies"].items():
+            agg["tallies"][model] = _add_counts(agg["tallies"].get(model, {}), t)
+            agg["cycles"][model] = agg["cycles"].get(model, 0) + r["cycles"][model]
+        agg["steps"] = dict(sorted(_add_counts(agg["steps"], r["steps"]).items()))
+    return agg
+
+
+def _with_ratios(entry: dict, profile: tuple[str, dict], lights: int) -> None:
+    """Put the printed formula's cycles and its ratios to the measured tallies (summed over ``lights``)."""
+    printed = entry["formula_printed"]
+    if printed is None:
+        return
+    printed["cycles"] = printed_cycles = weighted(printed["tally"], profile[1])
+    printed["ratio"] = {model: _ratios(t, printed["tally"], lights) for model, t in entry["tallies"].items()}
+    printed["cycles_ratio"] = {
+        model: (c / (lights * printed_cycles) if printed_cycles else None) for model, c in entry["cycles"].items()
+    }
+
+
+def run_audit(
+    mesh: Mesh,
+    lights: list[Light],
+    settings: AuditSettings = AuditSettings(),
+    source: str | None = None,
+    quiet: bool = False,
+) -> dict:
+    """Audit ``mesh`` under each light with each requested detector; see the module docstring."""
+    if not lights:
+        lights = random_lights(mesh)
+    profile = cycle_profile(settings.cycles)
+    stats = mesh_statistics(mesh)
+    warnings = mesh_warnings(stats)
+    runs = _runs(settings)
+    per_light = []
+    with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
+        for i, light in enumerate(lights):
+            ref = detect(mesh, light, "reference", engine="fast")
+            bar.set_postfix_str(f"light {i}", refresh=False)
+            bar.update()
+            info, light_warnings = _light_checks(mesh, light, ref.ties, i)
+            warnings += light_warnings
+            results = {}
+            for key, name, variant in runs:
+                results[key] = _one_run(mesh, light, name, variant, settings, ref.edge_ids, profile)
+                bar.set_postfix_str(f"light {i} {key}", refresh=False)
+                bar.update()
+            per_light.append({"light": info, "detectors": results})
+    detectors = {}
+    for key, _, _ in runs:
+        detectors[key] = _aggregate([pl["detectors"][key] for pl in per_light], settings.with_time)
+        _with_ratios(detectors[key], profile, len(lights))
+    return {
+        "silcount_version": __version__,
+        "schema": SCHEMA,
+        "source": source or mesh.name,
+        "mesh": stats,
+        "settings": {
+            "engine": settings.engine,
+            "variants": list(settings.variants),
+            "detectors": list(settings.detectors),
+            "cycles": profile[0],
+        },
+        "lights": [pl["light"] for pl in per_light],
+        "warnings": warnings,
+        "detectors": detectors,
+        "per_light": per_light,
+    }

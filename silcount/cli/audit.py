@@ -1,0 +1,188 @@
+"""`silcount audit [MESH]`: every detector on one mesh (or on every built-in mesh), per light and aggregated.
+
+The computation is :func:`silcount.audit.run.run_audit`; the layout is
+:mod:`silcount.audit.formats`.  Output goes to stdout, or with ``--out`` to a file
+written atomically (a temporary file renamed into place, so a failure never
+leaves half a report).  With no MESH, every built-in mesh is audited; ``--out``
+is then a directory receiving ``<mesh>.<format>``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from silcount.audit.costs import cycle_profile
+from silcount.audit.formats import FORMATS, render, render_json, write_atomic
+from silcount.audit.run import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
+from silcount.detectors import DETECTORS
+from silcount.errors import BadArgument
+from silcount.mesh import shapes
+from silcount.mesh.io import load_mesh, parse_size
+from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.model import Mesh
+
+HELP = "audit a mesh: silhouette edges and operation tallies of every detector, per light and aggregated"
+EXTENSIONS = {"text": "txt", "md": "md", "json": "json"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    # let "--light -1,2,3" read as a value, as argparse already does for "-1" and "-.5"
+    parser._negative_number_matcher = re.compile(r"^-[\d.]")
+    parser.add_argument(
+        "mesh",
+        nargs="?",
+        metavar="MESH",
+        help="OBJ, OFF, PLY, STL, GLB or GLTF file; omitted: audit every built-in mesh",
+    )
+    parser.add_argument("--light", action="append", default=[], metavar="X,Y,Z", help="a point light (repeatable)")
+    parser.add_argument(
+        "--directional",
+        action="append",
+        default=[],
+        metavar="X,Y,Z",
+        help="a directional light, the direction towards the light (repeatable)",
+    )
+    parser.add_argument(
+        "--random-lights",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"N point lights at random on a sphere of 3x the bounding radius "
+        f"(default {DEFAULT_LIGHT_COUNT} when no light is given)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=DEFAULT_SEED, help=f"seed of the random lights (default {DEFAULT_SEED})"
+    )
+    parser.add_argument(
+        "--detectors",
+        default=None,
+        metavar="LIST",
+        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all)",
+    )
+    parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
+    parser.add_argument("--engine", choices=("fast", "naive"), default="fast")
+    parser.add_argument(
+        "--cycles",
+        default="paper",
+        metavar="PROFILE|FILE",
+        help="cycle profile: paper (EESD 2012 weights), unit, or a TOML file (default paper)",
+    )
+    parser.add_argument(
+        "--with-edges",
+        action="store_true",
+        help="list each light's silhouette edges as [[x,y,z],[x,y,z]] in the input's coordinates",
+    )
+    parser.add_argument("--format", choices=FORMATS, default="text")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        metavar="PATH",
+        help="write here instead of stdout (a directory when MESH is omitted)",
+    )
+    parser.add_argument(
+        "--max-memory",
+        default=None,
+        metavar="SIZE",
+        help="refuse meshes estimated to need more (e.g. 2G; default $SILCOUNT_MAX_MEMORY or free RAM)",
+    )
+    parser.add_argument(
+        "--weld-tolerance",
+        type=float,
+        default=0.0,
+        metavar="T",
+        help="merge vertices closer than T (default 0: weld by exact position only)",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+
+
+def parse_vector(text: str, option: str) -> tuple[float, float, float]:
+    """``"1,2,3"`` -> (1.0, 2.0, 3.0); anything else is a :class:`BadArgument` naming the option."""
+    parts = text.replace(" ", "").split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 3 or not np.all(np.isfinite(values)):
+        raise BadArgument(f"{option} {text!r}: expected three finite comma-separated numbers X,Y,Z")
+    return values  # type: ignore[return-value]
+
+
+def explicit_lights(args: argparse.Namespace) -> list[Light]:
+    lights: list[Light] = [PointLight(parse_vector(t, "--light")) for t in args.light]
+    for t in args.directional:
+        v = parse_vector(t, "--directional")
+        if not any(v):
+            raise BadArgument(f"--directional {t!r}: the zero vector has no direction")
+        lights.append(DirectionalLight(v))
+    return lights
+
+
+def settings_from(args: argparse.Namespace) -> AuditSettings:
+    if args.detectors is None:
+        chosen = DETECTORS
+    else:
+        chosen = tuple(d.strip() for d in args.detectors.split(",") if d.strip())
+        for d in chosen:
+            if d not in DETECTORS:
+                raise BadArgument(f"--detectors: unknown detector {d!r}; choose from {', '.join(DETECTORS)}")
+        if not chosen:
+            raise BadArgument("--detectors: the list is empty")
+    variants = ("intended", "literal") if args.variant == "both" else (args.variant,)
+    return AuditSettings(
+        detectors=chosen, variants=variants, engine=args.engine, cycles=args.cycles, with_edges=args.with_edges
+    )
+
+
+def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> list[Light]:
+    if count is not None and count < 0:
+        raise BadArgument(f"--random-lights {count}: must be >= 0")
+    n = count if count is not None else (0 if fixed else DEFAULT_LIGHT_COUNT)
+    lights = fixed + random_lights(mesh, n, seed)
+    if not lights:
+        raise BadArgument("no light: give --light, --directional or --random-lights N with N > 0")
+    return lights
+
+
+def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fixed: list[Light], source: str) -> dict:
+    return run_audit(
+        mesh, lights_for(mesh, fixed, args.random_lights, args.seed), settings, source=source, quiet=args.quiet
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    settings = settings_from(args)
+    fixed = explicit_lights(args)
+    max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
+    cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
+    if args.mesh is not None:
+        if not args.weld_tolerance >= 0.0:
+            raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
+        mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
+        text = render(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
+        if args.out is None:
+            sys.stdout.write(text)
+        else:
+            write_atomic(args.out, text)
+            print(f"wrote {args.out}", file=sys.stderr)
+        return 0
+    audits = []
+    for name in shapes.BUILTIN:
+        audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
+    if args.out is not None:
+        if args.out.exists() and not args.out.is_dir():
+            raise BadArgument(f"--out {args.out}: with no MESH, --out must be a directory")
+        for name, a in audits:
+            path = args.out / f"{name}.{EXTENSIONS[args.format]}"
+            write_atomic(path, render(a, args.format))
+            print(f"wrote {path}", file=sys.stderr)
+    elif args.format == "json":
+        sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
+    else:
+        sys.stdout.write("\n".join(render(a, args.format) for _, a in audits))
+    return 0

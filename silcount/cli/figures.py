@@ -1,0 +1,29 @@
+"""`silcount figures`: operations by kind, cycle totals and growth plots (PNG and SVG)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+HELP = "the papers' figures redrawn, as printed and corrected, and measured growth plots (PNG, SVG)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)"
+    )
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Write every figure under ``<out_dir>/figures/`` (used by `silcount report`)."""
+    from silcount.papers.figures import report as write
+
+    return write(out_dir)
+
+
+def run(args: argparse.Namespace) -> int:
+    from silcount.papers.figures import write_all
+
+    for path in write_all(args.out):
+        print(path)
+    return 0

@@ -1,0 +1,75 @@
+"""The ``silcount`` command line.
+
+Each subcommand lives in ``silcount/cli/<name>.py`` and exposes ``HELP``
+(one line), ``add_arguments(parser)`` and ``run(args) -> int``; :data:`COMMANDS`
+maps each name to its module.  Command modules import only argparse-level
+things at the top and their heavy dependencies (sympy, trimesh, matplotlib,
+numba kernels) inside ``run``, so ``silcount render`` never loads sympy.
+Library errors (:mod:`silcount.errors`) become one line on stderr and their
+documented exit code here, and nowhere else:
+
+| exit | meaning |
+|------|---------|
+| 0 | success |
+| 1 | a check failed (e.g. ``compare`` found mismatches) |
+| 2 | bad arguments |
+| 3 | unreadable input |
+| 4 | invalid mesh |
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from types import ModuleType
+
+from silcount.cli import audit, claims, compare, figures, render, report, tables
+from silcount.errors import SilcountError
+
+COMMANDS: dict[str, ModuleType] = {
+    "audit": audit,
+    "report": report,
+    "claims": claims,
+    "tables": tables,
+    "figures": figures,
+    "render": render,
+    "compare": compare,
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # type: ignore[override]  # exit 2 with one line, as argparse does, but name the program
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from silcount.version import __version__
+
+    parser = _Parser(prog="silcount", description="Audit silhouette-detection algorithms and the papers' cost claims.")
+    parser.add_argument("--version", action="version", version=f"silcount {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    for name, module in COMMANDS.items():
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 0
+    try:
+        return int(args._run(args) or 0)
+    except SilcountError as exc:
+        print(f"silcount {args.command}: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("silcount: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

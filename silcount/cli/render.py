@@ -1,0 +1,224 @@
+"""`silcount render SCENE.json --method zpass|zfail|planar|raycast --out mask.png`: a shadow mask of a scene.
+
+Scenes are ``silcount-scene/1`` files (``../shared/scenes/README.md``).  The
+stencil methods take the silhouette of ``--detector`` (``--variant`` goes to
+the detector); ``planar`` projects the casters onto the floor with the
+stencil paper's shadow matrix (``--variant literal`` is the printed matrix,
+``intended`` the corrected one).  Warnings (open casters, the eye inside a
+shadow volume) go to stderr.
+
+:func:`report` renders every shared scene into ``<out>/renders/`` with every
+method and every installed detector and writes ``summary.json`` and
+``summary.md``: each mask against the ray-cast ground truth, each detector's
+z-fail mask against the reference detector's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from silcount.atomic import write_text
+from silcount.detectors import DETECTORS
+from silcount.errors import BadArgument
+from silcount.render.masks import compare_masks, write_mask, write_png
+from silcount.render.methods import METHODS, Rendered, render_method
+from silcount.render.planar import floor_plane
+from silcount.render.scene import Scene, load_scene
+from silcount.render.shade import shade
+
+HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
+REPO = Path(__file__).resolve().parents[2]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scene", type=Path, metavar="SCENE.json", help="a silcount-scene/1 file")
+    parser.add_argument("--method", choices=METHODS, required=True, help="how to compute the mask")
+    parser.add_argument(
+        "--detector",
+        choices=DETECTORS,
+        default="reference",
+        help="silhouette detector for zpass/zfail (default: reference)",
+    )
+    parser.add_argument(
+        "--variant",
+        choices=("intended", "literal"),
+        default="intended",
+        help="detector variant (zpass/zfail) or shadow matrix (planar); default intended",
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="mask.png", help="8-bit mask PNG, 255 in shadow")
+    parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
+    parser.add_argument("--image", type=Path, metavar="shaded.png", help="also write a Phong-shaded picture")
+
+
+def _check_out(path: Path | None, flag: str) -> None:
+    if path is not None and (path.is_dir() or not path.parent.is_dir()):
+        raise BadArgument(f"{flag} {path}: not a writable file path (is a directory, or its directory does not exist)")
+
+
+def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
+    paths = [write_mask(out, r.mask)]
+    if coverage is not None:
+        paths.append(write_mask(coverage, r.coverage))
+    if image is not None:
+        paths.append(write_png(image, shade(scene, r.tri_id, r.eye_depth, r.mask)))
+    return paths
+
+
+def run(args: argparse.Namespace) -> int:
+    for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
+        _check_out(path, flag)
+    scene = load_scene(args.scene)
+    r = render_method(scene, args.method, args.detector, args.variant)
+    for msg in r.messages:
+        print(f"silcount render: warning: {msg}", file=sys.stderr)
+    write_outputs(scene, r, args.out, args.coverage, args.image)
+    print(
+        f"{args.out}: {int(r.mask.sum())} pixels in shadow of {int(r.coverage.sum())} covered "
+        f"({scene.width}x{scene.height}, {args.method}"
+        + (f", {args.detector} {args.variant}" if args.method in ("zpass", "zfail") else "")
+        + (f", {args.variant} shadow matrix" if args.method == "planar" else "")
+        + ")"
+    )
+    return 0
+
+
+# ---- the report part -------------------------------------------------------------------------------
+
+
+def shared_scene_dir() -> Path | None:
+    """``$SILCOUNT_SCENE_DIR`` if set, else ``../shared/scenes`` beside the repository; None if absent."""
+    d = (
+        Path(os.environ["SILCOUNT_SCENE_DIR"])
+        if os.environ.get("SILCOUNT_SCENE_DIR")
+        else REPO.parent / "shared" / "scenes"
+    )
+    return d if d.is_dir() else None
+
+
+def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
+    c = compare_masks(mask, truth, coverage)
+    return {
+        "shadow_pixels": int(mask.sum()),
+        "mismatched": c.mismatched,
+        "covered": c.covered,
+        "fraction": round(c.fraction, 6),
+        "far_mismatches": c.far,
+        "matches": c.ok,
+    }
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Render the shared scenes into ``out_dir/renders/``; masks, coverage, shaded images, a summary."""
+    scenes = shared_scene_dir()
+    if scenes is None:
+        print("silcount report: skipped renders: no shared scenes (set SILCOUNT_SCENE_DIR)", file=sys.stderr)
+        return []
+    dest = out_dir / "renders"
+    dest.mkdir(parents=True, exist_ok=True)
+    written: list[Path] = []
+    summary: dict = {
+        "scenes": {},
+        "note": "fractions are mismatched / covered pixels against raycast "
+        "(planar: floor pixels only); far = more than one pixel from a mask edge",
+    }
+    for path in sorted(scenes.glob("*.json")):
+        scene = load_scene(path)
+        name = scene.name
+        truth = render_method(scene, "raycast")
+        written += write_outputs(
+            scene,
+            truth,
+            dest / f"{name}.raycast.png",
+            dest / f"{name}.coverage.png",
+            dest / f"{name}.raycast.shaded.png",
+        )
+        entry: dict = {"resolution": [scene.width, scene.height], "methods": {}, "detectors": {}}
+        for method in ("zpass", "zfail"):
+            r = render_method(scene, method)
+            written += write_outputs(
+                scene,
+                r,
+                dest / f"{name}.{method}.png",
+                None,
+                dest / f"{name}.{method}.shaded.png" if method == "zfail" else None,
+            )
+            entry["methods"][method] = _entry(r.mask, truth.mask, truth.coverage) | {"messages": r.messages}
+            if method == "zfail":
+                ref_mask = r.mask
+        try:
+            k, _, _ = floor_plane(scene)
+        except BadArgument:
+            k = None
+        if k is not None:
+            floor = truth.coverage & (scene.triangle_object[np.maximum(truth.tri_id, 0)] == k)
+            for variant in ("intended", "literal"):
+                r = render_method(scene, "planar", variant=variant)
+                written += write_outputs(scene, r, dest / f"{name}.planar-{variant}.png", None, None)
+                entry["methods"][f"planar-{variant}"] = _entry(r.mask, truth.mask, floor)
+        for det in DETECTORS:
+            for variant in ("intended", "literal"):
+                key = f"{det}-{variant}"
+                try:
+                    r = render_method(scene, "zfail", det, variant)
+                except Exception as exc:  # a detector variant that cannot run is a finding, not a crash
+                    entry["detectors"][key] = {"error": f"{type(exc).__name__}: {exc}"}
+                    continue
+                same = int((r.mask != ref_mask).sum())
+                entry["detectors"][key] = _entry(r.mask, truth.mask, truth.coverage) | {
+                    "pixels_differing_from_reference": same
+                }
+                if same:
+                    written.append(write_mask(dest / f"{name}.zfail.{key}.png", r.mask))
+        summary["scenes"][name] = entry
+    written.append(write_text(dest / "summary.json", json.dumps(summary, indent=2, sort_keys=True) + "\n"))
+    written.append(write_text(dest / "summary.md", summary_markdown(summary)))
+    return written
+
+
+def summary_markdown(summary: dict) -> str:
+    lines = [
+        "# Shadow masks of the shared scenes against ray casting",
+        "",
+        "Mismatched pixels as a fraction of covered pixels (planar: of floor pixels), and the far",
+        "mismatches (more than one pixel from an edge of either mask). Regenerate with `silcount report`.",
+        "",
+        "| scene | method | shadow px | mismatched | fraction | far | matches |",
+        "|---|---|---:|---:|---:|---:|---|",
+    ]
+    for scene, e in summary["scenes"].items():
+        for method, m in e["methods"].items():
+            lines.append(
+                f"| {scene} | {method} | {m['shadow_pixels']} | {m['mismatched']} | {m['fraction']:.6f} "
+                f"| {m['far_mismatches']} | {'yes' if m['matches'] else 'NO'} |"
+            )
+    lines += [
+        "",
+        "## z-fail masks per detector",
+        "",
+        "| scene | detector-variant | fraction vs raycast | far | pixels differing from reference |",
+        "|---|---|---:|---:|---:|",
+    ]
+    for scene, e in summary["scenes"].items():
+        for key, d in e["detectors"].items():
+            if "error" in d:
+                lines.append(f"| {scene} | {key} | error: {d['error']} | | |")
+            else:
+                lines.append(
+                    f"| {scene} | {key} | {d['fraction']:.6f} | {d['far_mismatches']} "
+                    f"| {d['pixels_differing_from_reference']} |"
+                )
+    notes = [
+        f"- {scene} {method}: {msg}"
+        for scene, e in summary["scenes"].items()
+        for method, m in e["methods"].items()
+        for msg in m.get("messages", [])
+    ]
+    if notes:
+        lines += ["", "## Messages", ""] + notes
+    return "\n".join(lines) + "\n"

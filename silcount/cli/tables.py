@@ -1,0 +1,35 @@
+"""`silcount tables`: the papers' operation-count tables, printed beside re-derived beside measured."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+FORMATS = ("md", "csv", "tex")
+
+HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")
+    parser.add_argument(
+        "--out", type=Path, default=None, help="write tables.md, tables.csv and tables.tex into this directory"
+    )
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Write the tables under ``<out_dir>/tables/`` (used by `silcount report`)."""
+    from silcount.papers.tables import report as write
+
+    return write(out_dir)
+
+
+def run(args: argparse.Namespace) -> int:
+    from silcount.papers.tables import render, write_all
+
+    if args.out is not None:
+        for path in write_all(args.out):
+            print(path)
+    else:
+        print(render(args.format), end="")
+    return 0

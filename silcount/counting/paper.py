@@ -1,0 +1,85 @@
+"""Access to ``models/``: the papers' per-line costs, loops and printed numbers as data.
+
+The TOML files under ``models/`` (one per paper and algorithm, see
+``models/README.md``) are the single source of every printed number.  This
+module parses them; sympy expressions are parsed once and cached (sympy is
+imported on the first expression, so loading a detector does not load it).
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from functools import cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from silcount.counting.arithmetic import KINDS
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+# Which model file supplies each detector's ``paper`` cost model by default.
+DEFAULT_PAPER_MODEL = {
+    "reference": "silcount-reference",
+    "ta": "eesd2012-ta",
+    "vnv": "eesd2012-vnv",
+    "hsd": "hsd2011-hsd",
+    "eesd": "eesd2012-eesd",
+}
+
+
+def models_dir() -> Path:
+    """The ``models/`` directory (``$SILCOUNT_MODELS_DIR`` overrides the repository copy)."""
+    env = os.environ.get("SILCOUNT_MODELS_DIR")
+    return Path(env) if env else Path(__file__).resolve().parents[2] / "models"
+
+
+@cache
+def load(name: str) -> dict:
+    """The parsed TOML of ``models/<name>.toml``."""
+    path = models_dir() / f"{name}.toml"
+    with open(path, "rb") as fh:
+        return tomllib.load(fh)
+
+
+@cache
+def symbols() -> dict[str, "sp.Symbol"]:
+    """The papers' size symbols ``n``, ``f_n``, ``e_n``, ``m`` (positive)."""
+    import sympy as sp
+
+    return {name: sp.Symbol(name, positive=True) for name in ("n", "f_n", "e_n", "m")}
+
+
+def expr(text: str | int) -> "sp.Expr":
+    """Parse a cost expression from models/ with the papers' symbols."""
+    import sympy as sp
+
+    return sp.sympify(str(text), locals=symbols())
+
+
+@cache
+def step_costs(name: str) -> dict[str, dict[str, "sp.Expr"]]:
+    """Per-step costs of model ``name``: step -> kind -> sympy expression."""
+    steps = load(name).get("steps", {})
+    return {step: {kind: expr(v) for kind, v in spec.get("cost", {}).items()} for step, spec in steps.items()}
+
+
+def paper_tally(name: str, steps: dict[str, int], params: dict[str, int | float]) -> dict[str, int]:
+    """The ``paper`` cost model: ``sum(steps[s] * cost[s])`` evaluated at ``params``.
+
+    ``params`` gives the mesh's own ``e_n``, ``f_n`` and ``m``.  Steps the
+    model does not annotate cost nothing in this model (they are reported in
+    ``steps``); every kind of :data:`KINDS` is present in the result.
+    """
+    costs = step_costs(name)
+    sym = symbols()
+    subs = {sym[k]: v for k, v in params.items() if k in sym}
+    total: dict[str, int] = {k: 0 for k in KINDS}
+    for step, count in steps.items():
+        for kind, cost in costs.get(step, {}).items():
+            value = cost.subs(subs)
+            if not value.is_number:
+                raise ValueError(f"cost of {name}:{step}:{kind} = {cost} needs {value.free_symbols}")
+            total[kind] = total.get(kind, 0) + int(count) * int(value)
+    return total

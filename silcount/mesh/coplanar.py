@@ -1,0 +1,328 @@
+"""Merging adjacent coplanar faces into polygons: the first half of HSD (HSD paper Sec. V, VI 6.3).
+
+HSD keeps "each part of occluder that has same normal vectors" as one polygon
+and runs TA over the polygons.  The merge must never put a silhouette edge
+inside a polygon, for any light; two criteria are provided.
+
+``tight`` (HSD ``intended``)
+    Faces ``f`` and ``g`` sharing a two-sided edge that they traverse in
+    opposite directions are merged iff, exactly,
+
+    * every corner of ``g`` lies on the plane of ``f``'s first three corners,
+      and every corner of ``f`` on the plane of ``g``'s first three corners
+      (``orient3d == 0``), and
+    * ``n_f . n_g > 0`` for the normals from the first three corners (the
+      same orientation, and neither degenerate).
+
+    Then ``(L - p0_g) . n_g = c (L - p0_f) . n_f`` with ``c > 0`` for every
+    point ``L`` (and ``d . n_g = c d . n_f`` for every direction), so the two
+    faces have the same light-facing sign for every light, in exact
+    arithmetic: no silhouette edge of the reference can lie between them.
+    (With floating-point facing values, a light within rounding distance of
+    the common plane can still split them: that is a tie, not a silhouette.)
+    Equality of oriented planes is transitive, so a region's members all
+    share one plane and orientation.  ``orient3d`` is first evaluated in
+    floating point with Shewchuk's static error bound (``errboundA``,
+    "Adaptive Precision Floating-Point Arithmetic", 1997); a test the bound
+    cannot decide, and every ``n_f . n_g``, is evaluated exactly on integers
+    (all coordinates scaled by one common power of two: the same exact
+    rational arithmetic as :class:`fractions.Fraction`, without its
+    normalisation).
+
+``facets`` (HSD ``literal``)
+    The paper's "same normal vectors" read loosely, as ``trimesh``'s
+    ``Trimesh.facets`` (adjacent triangles whose normals agree within an
+    angle tolerance; polygons are fan-triangulated first and each face joins
+    the facets of its triangles).  On scanned meshes this merges faces that
+    are not coplanar and hides real silhouette edges inside polygons.
+
+A region's polygon is given by its *boundary sides*: the sides of its faces
+whose edge is not interior (an edge is interior iff it has exactly two sides,
+traversed in opposite directions, by two faces of the same region).  A region
+may have holes, so its sides need not form one cycle; they are kept in mesh
+side order (face index, then corner order).  Regions are numbered by their
+lowest face index, which is also the face that decides the polygon's
+visibility (its *representative*).
+
+The merge cost is reported separately (:attr:`Merge.steps`, :attr:`Merge.true`):
+it is not run on counting memory; its ``true`` tally applies the per-test
+costs of :data:`MERGE_STEP_COST` (the operations each vectorised test
+performs, listed there) to the measured step counts.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from silcount.mesh.model import Mesh
+
+CRITERIA = ("tight", "facets")
+
+# Operations of one evaluation of each merge step (counting rules in docs/counting.md).
+MERGE_STEP_COST: dict[str, dict[str, int]] = {
+    # read both sides' faces and first vertices, compare faces and directions
+    "candidate_edge": {"read": 4, "cmp": 2},
+    # float orient3d: 12 coordinates, 9 differences, 3x3 determinant (9 mul, 5 add),
+    # permanent (9 mul, 5 add; |x| free), bound = errboundA * permanent (1 mul), |det| > bound
+    "orient3d_filter": {"read": 12, "add": 19, "mul": 19, "cmp": 1},
+    # the same determinant on exact integers, then its sign
+    "orient3d_exact": {"read": 12, "add": 14, "mul": 9, "cmp": 1},
+    # exact normal (p1 - p0) x (p2 - p0) of each face of a coplanar pair, once per face:
+    # 9 coordinates, 6 differences, 6 mul, 3 add
+    "exact_normal": {"read": 9, "add": 9, "mul": 6},
+    # n_f . n_g > 0 per coplanar pair: 6 normal components, 3 mul, 2 add, the sign
+    "normal_check": {"read": 6, "add": 2, "mul": 3, "cmp": 1},
+    # grouping: each merged edge links two face labels (2 reads, 1 compare); each face gets a label
+    "link": {"read": 2, "cmp": 1},
+    "label": {"write": 1},
+}
+
+_CHUNK = 1 << 18
+_ERRBOUND_A = (7.0 + 56.0 * 2.0**-53) * 2.0**-53
+
+
+@dataclass(frozen=True)
+class Merge:
+    """Faces grouped into polygons, with each polygon's boundary sides."""
+
+    criterion: str
+    region: np.ndarray  # (F,) polygon id of each face
+    rep: np.ndarray  # (P,) representative (lowest-index) face of each polygon
+    poly_start: np.ndarray  # (P+1,) CSR offsets into poly_sides
+    poly_sides: np.ndarray  # boundary sides (mesh side ids), grouped by polygon, in side order
+    interior: np.ndarray  # (E,) bool: the edge lies inside a polygon
+    steps: dict[str, int] = field(default_factory=dict)
+    true: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def n_polygons(self) -> int:
+        return int(self.rep.size)
+
+    @property
+    def n_polygon_edges(self) -> int:
+        return int(self.interior.size - np.count_nonzero(self.interior))
+
+    @property
+    def mean_sides(self) -> float:
+        return self.poly_sides.size / max(self.n_polygons, 1)
+
+    def paper_params(self) -> dict[str, float]:
+        """The papers' ``f_n``, ``e_n``, ``m`` of the polygon mesh (HSD paper Sec. 6.3)."""
+        return {"f_n": self.n_polygons, "e_n": self.n_polygon_edges, "m": self.mean_sides}
+
+    def summary(self) -> dict:
+        return {
+            "criterion": self.criterion,
+            "polygons": self.n_polygons,
+            "polygon_edges": self.n_polygon_edges,
+            "interior_edges": int(np.count_nonzero(self.interior)),
+            "mean_sides": self.mean_sides,
+            "steps": dict(self.steps),
+            "true": dict(self.true),
+        }
+
+
+def _opposite_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Edges with two sides in opposite directions on two different faces: (edge ids, face f, face g)."""
+    ms = mesh.manifold_sides
+    e = np.flatnonzero(ms[:, 0] >= 0)
+    s0, s1 = ms[e, 0], ms[e, 1]
+    f, g = mesh.side_face[s0], mesh.side_face[s1]
+    ok = (mesh.side_from[s0] != mesh.side_from[s1]) & (f != g)
+    return e[ok], f[ok], g[ok]
+
+
+def _exact_ints(x: np.ndarray, shift: int) -> np.ndarray:
+    """``x * 2**shift`` as exact Python integers (object array); ``shift`` makes every value integral."""
+    mant, expo = np.frexp(x)
+    m = (mant * 2.0**53).astype(np.int64)
+    s = np.maximum(expo.astype(np.int64) - 53 + shift, 0)  # zeros have m == 0
+    return np.left_shift(m.astype(object), s.astype(object))
+
+
+def _mask_ids(n: int, *ids: np.ndarray) -> np.ndarray:
+    """The distinct values of ``ids`` (all in ``0..n-1``), ascending."""
+    seen = np.zeros(n, dtype=bool)
+    for x in ids:
+        seen[x.ravel()] = True
+    return np.flatnonzero(seen)
+
+
+def _common_shift(x: np.ndarray) -> int:
+    nz = x[x != 0.0]
+    if nz.size == 0:
+        return 0
+    _, expo = np.frexp(nz)
+    return int(max(0, 53 - int(expo.min())))
+
+
+def _orient3d_float(a, b, c, d) -> tuple[np.ndarray, np.ndarray]:
+    """Shewchuk's orient3dfast and its static error bound, vectorised over rows."""
+    ad, bd, cd = a - d, b - d, c - d
+    bc = bd[:, 0] * cd[:, 1] - cd[:, 0] * bd[:, 1]
+    ca = cd[:, 0] * ad[:, 1] - ad[:, 0] * cd[:, 1]
+    ab = ad[:, 0] * bd[:, 1] - bd[:, 0] * ad[:, 1]
+    det = ad[:, 2] * bc + bd[:, 2] * ca + cd[:, 2] * ab
+    perm = (
+        (np.abs(bd[:, 0] * cd[:, 1]) + np.abs(cd[:, 0] * bd[:, 1])) * np.abs(ad[:, 2])
+        + (np.abs(cd[:, 0] * ad[:, 1]) + np.abs(ad[:, 0] * cd[:, 1])) * np.abs(bd[:, 2])
+        + (np.abs(ad[:, 0] * bd[:, 1]) + np.abs(bd[:, 0] * ad[:, 1])) * np.abs(cd[:, 2])
+    )
+    return det, _ERRBOUND_A * perm
+
+
+def _orient3d_exact_zero(a, b, c, d) -> np.ndarray:
+    """Exact ``orient3d == 0`` on object arrays of integers."""
+    ad, bd, cd = a - d, b - d, c - d
+    det = (
+        ad[:, 2] * (bd[:, 0] * cd[:, 1] - cd[:, 0] * bd[:, 1])
+        + bd[:, 2] * (cd[:, 0] * ad[:, 1] - ad[:, 0] * cd[:, 1])
+        + cd[:, 2] * (ad[:, 0] * bd[:, 1] - bd[:, 0] * ad[:, 1])
+    )
+    return np.asarray(det == 0, dtype=bool)
+
+
+def _cross(u, v):
+    return np.stack(
+        [
+            u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+            u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+            u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0],
+        ],
+        axis=1,
+    )
+
+
+def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """Face pairs to merge under the exact criterion, and the step counts of the tests."""
+    e, f, g = _opposite_pairs(mesh)
+    steps = {"candidate_edge": int(mesh.n_edges)}
+    first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]  # (F, 3)
+    sizes = mesh.face_sizes
+    # every corner of the other face against this face's plane, both ways round; when one face is a
+    # triangle T, the other face's corners against T's plane suffice (with n_T . n_P > 0 they put
+    # P's plane on T's, so T's corners lie on P's plane too)
+    tri_f, tri_g = sizes[f] == 3, sizes[g] == 3
+    one, two = np.flatnonzero(tri_f | ~tri_g), np.flatnonzero(~tri_f)
+    plane = np.concatenate([f[one], g[two]])
+    other = np.concatenate([g[one], f[two]])
+    pair = np.concatenate([one, two])
+    k = sizes[other]
+    t_pair = np.repeat(pair, k)
+    t_plane = np.repeat(plane, k)
+    t_point = mesh.corners[np.repeat(mesh.face_start[other], k) + np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)]
+    on_plane_corner = (first3[t_plane] == t_point[:, None]).any(axis=1)  # trivially on the plane
+    t_pair, t_plane, t_point = t_pair[~on_plane_corner], t_plane[~on_plane_corner], t_point[~on_plane_corner]
+    V = mesh.vertices
+    a, b, c = (V[first3[t_plane, i]] for i in range(3))
+    det, bound = _orient3d_float(a, b, c, V[t_point])
+    steps["orient3d_filter"] = int(t_pair.size)
+    off_plane = np.abs(det) > bound
+    unsure = np.flatnonzero(~off_plane)
+    steps["orient3d_exact"] = int(unsure.size)
+    shift = _common_shift(V)
+    if unsure.size:
+        used = _mask_ids(V.shape[0], first3[t_plane[unsure]], t_point[unsure])
+        exact = np.empty((V.shape[0], 3), dtype=object)
+        exact[used] = _exact_ints(V[used], shift)
+        for lo in range(0, unsure.size, _CHUNK):  # bounded memory for the object arrays
+            part = unsure[lo : lo + _CHUNK]
+            zero = _orient3d_exact_zero(*(exact[first3[t_plane[part], i]] for i in range(3)), exact[t_point[part]])
+            off_plane[part[~zero]] = True
+    coplanar = np.ones(e.size, dtype=bool)
+    coplanar[t_pair[off_plane]] = False
+    cand = np.flatnonzero(coplanar)
+    steps["normal_check"] = int(cand.size)
+    if cand.size:
+        faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
+        steps["exact_normal"] = int(faces.size)
+        used = _mask_ids(V.shape[0], first3[faces])
+        exact = np.empty((V.shape[0], 3), dtype=object)
+        exact[used] = _exact_ints(V[used], shift)
+        normals = np.empty((mesh.n_faces, 3), dtype=object)
+        for lo in range(0, faces.size, _CHUNK):
+            part = faces[lo : lo + _CHUNK]
+            p0, p1, p2 = (exact[first3[part, i]] for i in range(3))
+            normals[part] = _cross(p1 - p0, p2 - p0)
+        same = np.zeros(cand.size, dtype=bool)
+        for lo in range(0, cand.size, _CHUNK):
+            part = cand[lo : lo + _CHUNK]
+            same[lo : lo + _CHUNK] = np.asarray((normals[f[part]] * normals[g[part]]).sum(axis=1) > 0, dtype=bool)
+        cand = cand[same]
+    return f[cand], g[cand], steps
+
+
+def _facet_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """Face pairs in one ``trimesh`` facet (polygons fan-triangulated; each face joins its triangles' facets)."""
+    import trimesh
+
+    sizes = mesh.face_sizes
+    n_tri = sizes - 2
+    tri_face = np.repeat(np.arange(mesh.n_faces), n_tri)
+    fan = np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+    base = mesh.face_start[tri_face]
+    tris = np.stack([mesh.corners[base], mesh.corners[base + fan + 1], mesh.corners[base + fan + 2]], axis=1)
+    tm = trimesh.Trimesh(mesh.vertices, tris, process=False)
+    facets = tm.facets
+    if len(facets):
+        lens = np.array([len(x) for x in facets])
+        members = tri_face[np.concatenate(facets)]
+        heads = np.repeat(tri_face[[x[0] for x in facets]], lens)
+    else:
+        lens = np.zeros(0, dtype=np.int64)
+        members = heads = np.zeros(0, dtype=np.int64)
+    # the triangles of one polygon belong together
+    same_face = np.flatnonzero(np.diff(tri_face) == 0)
+    f = np.concatenate([heads, tri_face[same_face]])
+    g = np.concatenate([members, tri_face[same_face + 1]])
+    return f, g, {"triangles": int(tris.shape[0]), "facets": int(len(facets)), "facet_triangles": int(lens.sum())}
+
+
+def _build(mesh: Mesh, criterion: str) -> Merge:
+    F = mesh.n_faces
+    f, g, steps = _tight_links(mesh) if criterion == "tight" else _facet_links(mesh)
+    graph = coo_matrix((np.ones(f.size, dtype=np.int8), (f, g)), shape=(F, F))
+    _, label = connected_components(graph, directed=False)
+    rep = np.full(label.max() + 1, F, dtype=np.int64)
+    np.minimum.at(rep, label, np.arange(F))
+    order = np.argsort(rep)  # number the polygons by their lowest face
+    renum = np.empty_like(order)
+    renum[order] = np.arange(order.size)
+    region = renum[label]
+    rep = rep[order]
+    e, a, b = _opposite_pairs(mesh)
+    interior = np.zeros(mesh.n_edges, dtype=bool)
+    interior[e[region[a] == region[b]]] = True
+    boundary = np.flatnonzero(~interior[mesh.side_edge])
+    poly_sides = boundary[np.argsort(region[mesh.side_face[boundary]], kind="stable")]
+    poly_start = np.zeros(rep.size + 1, dtype=np.int64)
+    np.cumsum(np.bincount(region[mesh.side_face[poly_sides]], minlength=rep.size), out=poly_start[1:])
+    true: dict[str, int] = {}
+    if criterion == "tight":
+        steps["link"] = int(f.size)
+        steps["label"] = F
+        for step, n in steps.items():
+            for kind, c in MERGE_STEP_COST.get(step, {}).items():
+                true[kind] = true.get(kind, 0) + c * n
+    return Merge(criterion, region, rep, poly_start, poly_sides, interior, steps, true)
+
+
+_CACHE: "weakref.WeakKeyDictionary[Mesh, dict[str, Merge]]" = weakref.WeakKeyDictionary()
+
+
+def merge(mesh: Mesh, criterion: str = "tight") -> Merge:
+    """The polygons of ``mesh`` under ``criterion`` (``tight`` or ``facets``), cached per mesh."""
+    if criterion not in CRITERIA:
+        raise ValueError(f"unknown merge criterion {criterion!r}; choose from {', '.join(CRITERIA)}")
+    per_mesh = _CACHE.setdefault(mesh, {})
+    if criterion not in per_mesh:
+        per_mesh[criterion] = _build(mesh, criterion)
+    return per_mesh[criterion]
+
+
+__all__ = ["Merge", "merge", "CRITERIA", "MERGE_STEP_COST"]

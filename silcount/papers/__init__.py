@@ -1,0 +1,11 @@
+"""The papers, checked: sympy re-derivation, claims, tables, figures, the projection algebra.
+
+| module         | what it holds                                                           |
+|----------------|-------------------------------------------------------------------------|
+| formulas.py    | the closed forms re-derived from the per-line costs in ``models/``      |
+| growth.py      | measured operation counts against mesh size (the complexity evidence)   |
+| projection.py  | the stencil paper's planar shadow matrix and "new pixel" formula        |
+| claims.py      | every checkable statement with its verdict                              |
+| tables.py      | the papers' tables: printed, re-derived, measured                       |
+| figures.py     | the papers' charts, printed and corrected; growth plots                 |
+"""

@@ -1,0 +1,246 @@
+"""The papers' figures, redrawn: operations by kind, cycle totals, growth.
+
+* ``operations``: operations by kind per algorithm at the tables' points
+  (EESD paper Figs. 7 and 8, HSD paper Figs. 5 and 6), as printed (the
+  papers' closed forms) and as corrected (per-line costs x loop structure with
+  corrected per-line costs; :mod:`silcount.papers.formulas`);
+* ``cycles``: cycle-weighted totals per algorithm (EESD paper Fig. 9) for
+  each cycle profile (:mod:`silcount.counting.cycles`), printed vs corrected;
+* ``growth``: measured tallies vs faces, log-log, with fitted exponents
+  (:mod:`silcount.papers.growth`).
+
+PNG and SVG via matplotlib's Agg backend, with fixed metadata and
+``svg.hashsalt`` so regenerated files are byte-identical.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from silcount.atomic import atomic_path, write_text  # noqa: E402
+from silcount.counting.cycles import builtin_profiles  # noqa: E402
+from silcount.detectors import DETECTORS  # noqa: E402
+from silcount.papers import formulas as F  # noqa: E402
+from silcount.papers import growth as sweep  # noqa: E402
+
+POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
+ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
+KINDS = (("mul", "Mult"), ("add", "Add"), ("cmp", "Compare"), ("read", "Read"), ("write", "Write"))
+COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555"}
+STYLE = {"svg.hashsalt": "silcount", "font.size": 10, "axes.grid": True, "grid.alpha": 0.3, "axes.axisbelow": True}
+
+
+def _save(fig, out_dir: Path, stem: str) -> list[Path]:
+    paths = []
+    for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
+        path = out_dir / f"{stem}.{ext}"
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format=ext, dpi=110, metadata=meta, bbox_inches="tight")
+        paths.append(path)
+    plt.close(fig)
+    return paths
+
+
+def _value(model: str, which: str, point: dict) -> dict[str, float]:
+    return {k: float(x) for k, x in F.evaluate(F.forms(model)[which], **point).items()}
+
+
+def operations(out_dir: Path) -> list[Path]:
+    """Operations by kind per algorithm, printed vs corrected, at each table point (log scale)."""
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), sharey="row")
+    width = 0.8 / len(ALGORITHMS)
+    x = np.arange(len(KINDS))
+    for row, point in enumerate(POINTS):
+        for col, (which, title) in enumerate((("printed", "as printed"), ("corrected", "corrected"))):
+            ax = axes[row, col]
+            for i, (name, model) in enumerate(ALGORITHMS):
+                vals = _value(model, which, point)
+                heights = [max(vals[k], 0.5) for k, _ in KINDS]
+                ax.bar(x + (i - 1.5) * width, heights, width, label=name, color=COLOURS[name])
+            ax.set_yscale("log")
+            ax.set_xticks(x, [label for _, label in KINDS])
+            ax.set_title(f"n = {point['n']}, m = {point['m']}: {title}")
+            if col == 0:
+                ax.set_ylabel("operations (count, log scale)")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.suptitle(
+        "Operations by kind per algorithm: the papers' closed forms vs the corrected re-derivation\n"
+        "(a zero count is drawn at 0.5)"
+    )
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
+    fig.legend(handles, labels, title="algorithm", ncols=4, loc="upper center", bbox_to_anchor=(0.5, 0.935), fontsize=9)
+    return _save(fig, out_dir, "operations")
+
+
+def cycles(out_dir: Path) -> list[Path]:
+    """Cycle-weighted totals per algorithm for every profile, printed vs corrected."""
+    profiles = builtin_profiles()
+    fig, axes = plt.subplots(len(POINTS), len(profiles), figsize=(13, 6.5))
+    names = [name for name, _ in ALGORITHMS]
+    x = np.arange(len(names))
+    for row, point in enumerate(POINTS):
+        for col, (pname, prof) in enumerate(profiles.items()):
+            ax = axes[row, col]
+            for j, (which, hatch) in enumerate((("printed", ""), ("corrected", "//"))):
+                tot = [prof.cycles(_value(model, which, point)) for _, model in ALGORITHMS]
+                ax.bar(
+                    x + (j - 0.5) * 0.4,
+                    tot,
+                    0.4,
+                    color=[COLOURS[n] for n in names],
+                    hatch=hatch,
+                    edgecolor="black",
+                    linewidth=0.5,
+                    label=which,
+                )
+            ax.set_xticks(x, names)
+            ax.set_yscale("log")
+            ax.set_title(f"{pname}\nn = {point['n']}, m = {point['m']}", fontsize=9)
+            if col == 0:
+                ax.set_ylabel("cycles (log scale)")
+    handles = [plt.Rectangle((0, 0), 1, 1, facecolor="white", edgecolor="black", hatch=h) for h in ("", "//")]
+    fig.legend(handles, ["as printed", "corrected"], loc="upper right", ncols=2)
+    fig.suptitle("Cycle-weighted totals per algorithm and cycle profile", x=0.4)
+    fig.tight_layout()
+    return _save(fig, out_dir, "cycles")
+
+
+def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
+    """Measured total operations vs faces (icosphere sweep), log-log, with fitted exponents."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
+    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+    for ax, model in zip(axes, ("paper", "true")):
+        faces_all = []
+        for det in DETECTORS:
+            series = sorted(
+                (r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
+                key=lambda r: r.faces,
+            )
+            if not series:
+                continue
+            faces = [r.faces for r in series]
+            totals = [sum(r.tally[model].values()) for r in series]
+            b = sweep.fit_exponent(faces, totals)
+            faces_all += faces
+            ax.plot(
+                faces,
+                totals,
+                marker="o",
+                color=COLOURS[label_of[det]],
+                label=f"{label_of[det]}: F^{b:.2f}" + (" (= TA)" if det == "hsd" else ""),
+                linestyle="--" if det == "hsd" else "-",
+            )
+        f = np.array(sorted(set(faces_all)), dtype=float)
+        if f.size:
+            ax.plot(f, 10 * f**2, "k:", label="10 F^2 (the papers' O(n^2))")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("faces F (icosphere0 to icosphere4)")
+        ax.set_title(f"'{model}' cost model")
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=2)
+    axes[0].set_ylabel("operations per silhouette query (all kinds)")
+    fig.suptitle(
+        "Measured growth of operation counts (fast engine, one point light); legend: fitted exponent\n"
+        "HSD equals TA here: icospheres have no coplanar neighbours to merge"
+    )
+    fig.tight_layout()
+    return _save(fig, out_dir, "growth")
+
+
+def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
+    """Measured tallies per operation kind vs faces, log-log, one panel per kind and cost model."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    kinds = [k for k, _ in KINDS]
+    fig, axes = plt.subplots(2, len(kinds), figsize=(15, 6.5), sharex=True)
+    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+    exps = sweep.exponents(runs)
+    for row, model in enumerate(("paper", "true")):
+        for col, (kind, kind_label) in enumerate(KINDS):
+            ax = axes[row, col]
+            for det in DETECTORS:
+                series = sorted(
+                    (r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
+                    key=lambda r: r.faces,
+                )
+                pts = [(r.faces, r.tally[model][kind]) for r in series if r.tally[model][kind] > 0]
+                if not pts:
+                    continue
+                b = exps[(det, model, kind)]
+                ax.plot(
+                    *zip(*pts),
+                    marker="o",
+                    markersize=3,
+                    color=COLOURS[label_of[det]],
+                    linestyle="--" if det == "hsd" else "-",
+                    label=f"{label_of[det]} {b:.2f}",
+                )
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_title(f"{kind_label} ('{model}' model)", fontsize=9)
+            ax.legend(fontsize=7, title="exponent", title_fontsize=7)
+            if row == 1:
+                ax.set_xlabel("faces F")
+            if col == 0:
+                ax.set_ylabel("count per query")
+    fig.suptitle(
+        "Measured operation counts by kind vs faces (icosphere sweep, log-log; legend: fitted exponent b in count ~ F^b)"
+    )
+    fig.tight_layout()
+    return _save(fig, out_dir, "growth_by_kind")
+
+
+def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
+    """The fitted exponents as a markdown table (written beside the growth plots)."""
+    runs = sweep.sweep(with_real=False) if runs is None else runs
+    exps = sweep.exponents(runs)
+    lines = [
+        "# Measured growth: fitted exponent b in count ~ F^b",
+        "",
+        "Fast engine, the detectors' measured variants (`silcount.papers.growth.MEASURED_VARIANT`), one point light, "
+        f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count.",
+        "",
+        "| detector | cost model | " + " | ".join(label for _, label in KINDS) + " |",
+        "|---|---|" + "---:|" * len(KINDS),
+    ]
+    for det in DETECTORS:
+        for model in ("paper", "true"):
+            vals = [exps.get((det, model, k)) for k, _ in KINDS]
+            lines.append(f"| {det} | {model} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in vals) + " |")
+    lines += [
+        "",
+        "| mesh | faces | " + " | ".join(f"{d} true total" for d in DETECTORS) + " |",
+        "|---|---:|" + "---:|" * len(DETECTORS),
+    ]
+    for mesh in sweep.SWEEP_MESHES:
+        row = {r.detector: r for r in runs if r.mesh == mesh}
+        faces = next(iter(row.values())).faces
+        lines.append(
+            f"| {mesh} | {faces} | "
+            + " | ".join(
+                str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in DETECTORS
+            )
+            + " |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def report(out_dir: Path) -> list[Path]:
+    """The committed outputs: every figure under ``<out_dir>/figures/``."""
+    return write_all(Path(out_dir) / "figures")
+
+
+def write_all(out_dir: Path) -> list[Path]:
+    """Write every figure (PNG and SVG) into ``out_dir``."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    table = out_dir / "growth.md"
+    write_text(table, exponent_table())
+    with plt.rc_context(STYLE):
+        return operations(out_dir) + cycles(out_dir) + growth(out_dir) + growth_by_kind(out_dir) + [table]
