@@ -4,12 +4,17 @@ Numbers are formatted by :func:`fmt`: integers in full, other floats with
 six significant digits; JSON keeps full ``repr`` precision (input
 coordinates must survive exactly) and sorted-as-built keys.  Nothing here
 computes: it only lays out the dictionary built by :mod:`silcount.audit.run`.
+Each table is a :class:`pandas.DataFrame` of formatted cells, laid out by
+``DataFrame.to_markdown`` (tabulate): ``pipe`` for Markdown, ``simple`` for
+the terminal.  The JSON document's schema is ``docs/schemas/audit.schema.json``.
 """
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
+
+import pandas as pd
 
 from silcount.atomic import write_text
 from silcount.counting.arithmetic import KINDS
@@ -31,13 +36,13 @@ def fmt(x) -> str:
 
 
 def table(header: list[str], rows: list[list[str]], markdown: bool) -> list[str]:
-    """Aligned plain-text or Markdown table lines."""
-    if markdown:
-        out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-        return out + ["| " + " | ".join(r) + " |" for r in rows]
-    widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)]
-    line = lambda cells: "  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(cells, widths)))
-    return [line(header), line(["-" * w for w in widths])] + [line(r) for r in rows]
+    """Aligned plain-text or Markdown table lines: the first column left-aligned, the others right-aligned."""
+    frame = pd.DataFrame(rows, columns=header, dtype=object)
+    align = ("left",) + ("right",) * (len(header) - 1)
+    text = frame.to_markdown(
+        index=False, tablefmt="pipe" if markdown else "simple", disable_numparse=True, colalign=align
+    )
+    return text.splitlines()
 
 
 def _kinds(entries: list[dict], model: str) -> list[str]:
