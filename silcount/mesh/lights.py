@@ -39,6 +39,11 @@ class PointLight:
     def is_directional(self) -> bool:
         return False
 
+    @property
+    def vector(self) -> tuple[float, float, float]:
+        """The light's defining vector: its position."""
+        return self.position
+
     def describe(self) -> str:
         return "point " + ",".join(f"{c:.6g}" for c in self.position)
 
@@ -58,6 +63,11 @@ class DirectionalLight:
     @property
     def is_directional(self) -> bool:
         return True
+
+    @property
+    def vector(self) -> tuple[float, float, float]:
+        """The light's defining vector: its direction (towards the light)."""
+        return self.direction
 
     def describe(self) -> str:
         return "directional " + ",".join(f"{c:.6g}" for c in self.direction)
