@@ -53,8 +53,10 @@ def _rows(text: str) -> Rows:
     return [(i, toks) for i, line in enumerate(text.split("\n")) if (toks := line.split())]
 
 
-def _header(rows: Rows) -> tuple[int, int, int, int, dict[str, bool]]:
-    """(index of the first body row, vertices, faces, dimension, flags) from the keyword and counts."""
+def _header(rows: Rows) -> tuple[Rows, int, int, int, dict[str, bool]]:
+    """(the body rows, vertices, faces, dimension, flags) from the keyword and counts.
+
+    Numbers after ``NEdges`` on the counts line begin the body (the spec's token stream)."""
     if not rows:
         raise _Corrupt("no OFF header")
     first = rows[0][1][0]
@@ -73,9 +75,11 @@ def _header(rows: Rows) -> tuple[int, int, int, int, dict[str, bool]]:
     if pending[:1] == ["BINARY"]:
         raise _Corrupt("binary OFF ('OFF BINARY') is not read; convert it to text OFF or PLY")
     need = 3 if flags["n"] else 2
+    line = rows[0][0]
     while len(pending) < need:
         if r >= len(rows):
             raise _Corrupt("no vertex and face counts")
+        line = rows[r][0]
         pending += rows[r][1]
         r += 1
     try:
@@ -90,7 +94,8 @@ def _header(rows: Rows) -> tuple[int, int, int, int, dict[str, bool]]:
         r += 1  # NEdges alone on its line
     if dim != 3:
         raise _Corrupt(f"{dim}-dimensional vertices (nOFF); silcount reads 3-D meshes")
-    return r, nv, nf, dim + flags["4"], flags
+    rest = pending[need + 1 :]
+    return ([(line, rest)] if rest else []) + rows[r:], nv, nf, dim + flags["4"], flags
 
 
 def _per_vertex(dims: int, flags: dict[str, bool]) -> int:
@@ -165,8 +170,7 @@ def _stream_mode(body: Rows, nv: int, nf: int, dims: int, per: int) -> tuple[np.
 def read(path: Path, data: bytes) -> Parsed:
     rows = _rows(text_of(data, path, "OFF"))
     try:
-        r, nv, nf, dims, flags = _header(rows)
-        body = rows[r:]
+        body, nv, nf, dims, flags = _header(rows)
         got = _line_mode(body, nv, nf, dims)
         verts, sizes, corners = got if got is not None else _stream_mode(body, nv, nf, dims, _per_vertex(dims, flags))
     except _Corrupt as exc:

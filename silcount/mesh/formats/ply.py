@@ -200,7 +200,7 @@ def _count(body: _Body, off: int, prop: Prop, elem: Element, i: int) -> int:
 def _short(body: _Body, elem: Element, i: int) -> _Corrupt:
     return _Corrupt(
         f"truncated {body.kind} PLY: element '{elem.name}' ran short: "
-        f"the header promises {elem.n} records, the body ends in record {i}"
+        f"the body ends after {i} of the {elem.n} records the header promises"
     )
 
 
