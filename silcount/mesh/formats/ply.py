@@ -322,7 +322,10 @@ def _read(data: bytes) -> Parsed:
             wanted = {_index_list(elem).name}
         pos, got = read_element(body, pos, elem, wanted)
         if elem.name == "vertex":
-            verts = np.stack([got[k][0].astype(np.float64) for k in ("x", "y", "z")], axis=1)
+            f4 = {p.name for p in elem.props if p.type == "f4"}  # ASCII "float" coordinates: rounded to float32
+            with np.errstate(over="ignore", invalid="ignore"):
+                xyz = [got[k][0].astype(np.float32 if k in f4 else np.float64) for k in ("x", "y", "z")]
+            verts = np.stack(xyz, axis=1).astype(np.float64)
         elif elem.name == "face":
             counts, flat = got[_index_list(elem).name]
             polys.append((counts, _as_indices(flat, body, elem)))
