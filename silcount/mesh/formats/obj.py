@@ -106,7 +106,7 @@ def _read_fast(lines: list[str]) -> Parsed | None:
     heads_arr = np.array([ln[:2] for ln in lines])
     is_v = (heads_arr == "v ") | (heads_arr == "v\t")
     is_f = (heads_arr == "f ") | (heads_arr == "f\t")
-    if np.any((heads_arr == "v") | (heads_arr == "f") | (heads_arr == "fo")):
+    if np.any(np.isin(heads_arr, ("v", "f", "v\r", "f\r", "fo"))):
         return None  # "v"/"f" alone, or the old "fo": the slow reader handles them
     v_at, f_at = np.flatnonzero(is_v), np.flatnonzero(is_f)
     if v_at.size == 0 and f_at.size == 0:
