@@ -89,7 +89,12 @@ def test_obj_old_fo_statement_is_a_face(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "body,words", [("l 1 2\nl 2 3 4\np 1\n", ("2 line ('l')", "1 point ('p')")), ("p 1 2 3\n", ("1 point ('p')",))]
+    "body,words",
+    [
+        ("l 1 2\nl 2 3 4\np 1\n", ("2 line ('l')", "1 point ('p')")),
+        ("p 1 2 3\n", ("1 point ('p')",)),
+        ("cstype bspline\ndeg 3\ncurv 0.0 1.0 1 2 3 4\nparm u 0 0 0 0 1 1 1 1\nend\n", ("1 curve ('curv')",)),
+    ],
 )
 def test_obj_line_and_point_elements_are_no_faces(tmp_path, body, words):
     text = "".join(f"v {x} {y} {z}\n" for x, y, z in TETRA_V) + body

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.errors import InvalidMesh, UnreadableInput
+from silcount.errors import UnreadableInput
 
 
 @dataclass
@@ -194,8 +194,3 @@ def polygons(sizes: np.ndarray, corners: np.ndarray) -> np.ndarray | list[np.nda
     if sizes.size and np.all(sizes == sizes[0]):
         return corners.reshape(-1, int(sizes[0]))
     return np.split(corners, np.cumsum(sizes)[:-1])
-
-
-def refuse_no_faces(path: Path, parsed: Parsed) -> None:
-    if parsed.sizes.size == 0:
-        raise InvalidMesh(f"{path}: no faces: {parsed.no_faces or 'the file holds no face'}")

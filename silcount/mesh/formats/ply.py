@@ -211,6 +211,8 @@ def read_element(body: _Body, pos: int, elem: Element, wanted: set[str]) -> tupl
     """
     n, props = elem.n, elem.props
     out: dict[str, tuple] = {}
+    if not props:
+        return pos, out  # an element without properties holds no data, however many records it has
     if n == 0:
         return pos, {
             p.name: ((np.zeros(0),) if p.count is None else (np.zeros(0, np.int64), np.zeros(0)))
