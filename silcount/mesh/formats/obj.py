@@ -91,7 +91,7 @@ def _no_faces(tags: dict[str, int]) -> str:
     return "the file has vertices but no face ('f') statement"
 
 
-def _finish(path_or_none, verts: np.ndarray, sizes, raw, before, face_lines, tags) -> Parsed:
+def _finish(verts: np.ndarray, sizes, raw, before, face_lines, tags: dict[str, int]) -> Parsed:
     raw = np.asarray(raw, dtype=np.int64)
     nbefore = np.repeat(np.asarray(before, dtype=np.int64), sizes)
     corners = np.where(raw > 0, raw - 1, np.where(raw < 0, raw + nbefore, -1))
@@ -136,7 +136,7 @@ def _read_fast(lines: list[str]) -> Parsed | None:
         return None
     before = np.cumsum(is_v)[f_at]
     tags = _other_tags(heads_arr) if f_at.size == 0 else {}
-    return _finish(None, verts.reshape(-1, 3), sizes, raw, before, f_at, tags)
+    return _finish(verts.reshape(-1, 3), sizes, raw, before, f_at, tags)
 
 
 def _other_tags(heads_arr: np.ndarray) -> dict[str, int]:
@@ -182,7 +182,7 @@ def _read_slow(path: Path, lines: list[str]) -> Parsed:
     if not verts and not polys:
         raise UnreadableInput(f"{path}: not an OBJ mesh: no vertex ('v') or face ('f') statements")
     sizes, raw = faces_from_lists(polys)
-    return _finish(path, np.asarray(verts, dtype=np.float64).reshape(-1, 3), sizes, raw, before, face_lines, tags)
+    return _finish(np.asarray(verts, dtype=np.float64).reshape(-1, 3), sizes, raw, before, face_lines, tags)
 
 
 def estimate(path: Path, size: int) -> tuple[int, int]:
