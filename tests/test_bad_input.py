@@ -77,7 +77,6 @@ def test_unknown_extension(tmp_path):
 @pytest.mark.parametrize(
     "name,data,word",
     [
-        ("trunc.obj", obj_text(TETRA_V, TETRA_F)[:-4], "a face needs at least 3 vertices"),  # cut inside the last face
         ("corrupt.obj", "v 1 2 x\nf 1 2 3\n", "line 1"),
         ("trunc.off", "OFF\n4 4 0\n1 1 1\n1 -1 -1\n", "promises 4 vertices and 4 faces"),
         ("trunc.stl", tetra_bytes("stl")[:-40], "ASCII STL"),
@@ -88,7 +87,7 @@ def test_unknown_extension(tmp_path):
         ("trunc_bin.ply", tetra_bytes("ply_bin")[:-10], "truncated binary PLY"),
         ("nomagic.ply", b"plx\nformat ascii 1.0\nend_header\n", "not a PLY file"),
         ("badformat.ply", tetra_bytes("ply").replace(b"format ascii", b"format weird"), "unknown format"),
-        ("trunc.ply", tetra_bytes("ply")[:-30], "truncated PLY"),
+        ("trunc.ply", tetra_bytes("ply")[:-30], "truncated ASCII PLY: element 'face' ran short"),
     ],
 )
 def test_truncated_or_corrupt_files(tmp_path, name, data, word):
@@ -127,21 +126,31 @@ def test_nan_in_binary_stl(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "name,data",
+    "name,data,where",
     [
-        ("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
-        ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n"),
-        ("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
+        ("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "line 4, vertex 4"),
+        ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "line 4, vertex -4"),
+        ("idx.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "face 0, vertex 3"),
     ],
 )
-def test_faces_that_index_missing_vertices(tmp_path, name, data):
-    assert_refused(write(tmp_path, name, data), 4, "missing vertex" if name.endswith(".obj") else "indexes vertex")
+def test_a_file_whose_only_face_indexes_a_missing_vertex_is_refused(tmp_path, name, data, where):
+    assert_refused(write(tmp_path, name, data), 4, "no usable face", "missing vertex", where, "the file has 3 vertices")
 
 
-def test_faces_index_missing_vertices_in_ply(tmp_path):
+def test_faces_index_missing_vertices_in_ply_are_dropped_with_a_warning(tmp_path):
     text = tetra_bytes("ply").decode().replace("3 1 3 2", "3 1 3 7")
-    err = assert_refused(write(tmp_path, "idx.ply", text), 4)
-    assert "vertex 7" in err
+    doc = audit_json(write(tmp_path, "idx.ply", text))
+    assert doc["mesh"]["faces"] == 3
+    assert (
+        "dropped 1 face indexing a missing vertex (first: face 3, vertex 7; the file has 4 vertices)" in doc["warnings"]
+    )
+
+
+def test_a_truncated_obj_face_is_dropped_not_the_file(tmp_path):
+    # OBJ has no counts: a file cut inside its last face ("f 2 ") is a file with one bad face
+    doc = audit_json(write(tmp_path, "trunc.obj", obj_text(TETRA_V, TETRA_F)[:-4]))
+    assert doc["mesh"]["faces"] == 3
+    assert "dropped 1 face with fewer than 3 distinct vertices (first: line 8)" in doc["warnings"]
 
 
 @pytest.mark.parametrize(

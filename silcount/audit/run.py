@@ -222,7 +222,7 @@ def run_audit(
         lights = random_lights(mesh)
     profile = cycle_profile(settings.cycles)
     stats = mesh_statistics(mesh)
-    warnings = mesh_warnings(stats)
+    warnings = list(mesh.load_warnings) + mesh_warnings(stats)
     runs = _runs(settings)
     per_light = []
     with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:

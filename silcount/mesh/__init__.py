@@ -4,6 +4,7 @@
 |--------------|----------------------------------------------------------------------|
 | model.py     | :class:`Mesh`: welded vertices, polygon faces (CSR), the edge table  |
 | io.py        | :func:`load_mesh`: OBJ, OFF, PLY, STL, GLB/GLTF, with one-line errors |
+| formats/     | the readers, one module per format (``docs/loading.md``)             |
 | stats.py     | the audit's mesh statistics and warnings                             |
 | shapes.py    | built-in meshes (icospheres, quad cube, torus, ...)                  |
 | coplanar.py  | HSD's merge of coplanar neighbours into polygons (HSD 2011 Sec. V)   |

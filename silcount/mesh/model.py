@@ -34,6 +34,7 @@ class Mesh:
     dropped_faces: int = 0  # faces removed because welding collapsed them
     weld_tolerance: float = 0.0  # 0: vertices welded by exact position (see weld)
     weld_map: np.ndarray | None = field(default=None, repr=False)  # input vertex -> welded vertex
+    load_warnings: tuple[str, ...] = ()  # bad faces the loader dropped, and why (silcount.mesh.io)
 
     # ---- sizes -------------------------------------------------------------------
     @property
