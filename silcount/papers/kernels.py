@@ -74,6 +74,10 @@ def _kernel_ray_plane(c):
     _ = num * den < 0  # the ray x0 + t d (t > 0) crosses the plane
 
 
+def _kernel_sign_test(c):
+    _ = Num(0.25, c) > 0
+
+
 def _kernel_visibility(c):
     from silcount.detectors.base import visibility_true_cost
     from silcount.mesh.lights import PointLight
@@ -97,6 +101,7 @@ KERNELS = {
     "edge_inverse": (_kernel_edge_inverse, "(a, b) -> (b, a)"),
     "point_in_plane": (_kernel_point_in_plane, "aR_x+bR_y+cR_z+d = 0 for a point R"),
     "ray_plane": (_kernel_ray_plane, "does the ray x0 + t d, t > 0, cross the plane"),
+    "sign_test": (_kernel_sign_test, "x > 0"),
     "visibility": (_kernel_visibility, "silcount's counted visibility (normal from corners, L - p0, dot, sign)"),
     "visibility_precomputed": (_kernel_visibility_precomputed, "(L - p0) . n > 0 with a stored normal"),
 }
