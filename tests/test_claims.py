@@ -20,8 +20,21 @@ from silcount.papers.claims import base, cells
 from silcount.papers.quotes import check, papers_dir
 
 ROOT = Path(__file__).resolve().parent.parent
-KEYS = {"id", "key", "family", "paper", "where", "quote", "statement", "readings", "printed", "rederived",
-        "measured", "verdict", "reason"}
+KEYS = {
+    "id",
+    "key",
+    "family",
+    "paper",
+    "where",
+    "quote",
+    "statement",
+    "readings",
+    "printed",
+    "rederived",
+    "measured",
+    "verdict",
+    "reason",
+}
 
 
 @pytest.fixture(scope="module")
@@ -147,9 +160,22 @@ def test_user_cycle_profile(tmp_path, capsys):
 
 
 def _clear_caches():
-    for fn in (models.load, models.step_costs, formulas.charged, formulas.rederive, formulas.forms,
-               formulas.printed_lines, formulas.rederivation_differences, formulas.convention, formulas.worst_case,
-               formulas.witness, formulas.paper_forms, base.cycles, projection.analyse, tables._rows):
+    for fn in (
+        models.load,
+        models.step_costs,
+        formulas.charged,
+        formulas.rederive,
+        formulas.forms,
+        formulas.printed_lines,
+        formulas.rederivation_differences,
+        formulas.convention,
+        formulas.worst_case,
+        formulas.witness,
+        formulas.paper_forms,
+        base.cycles,
+        projection.analyse,
+        tables._rows,
+    ):
         fn.cache_clear()
 
 

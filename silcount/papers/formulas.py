@@ -75,7 +75,7 @@ def zero_form() -> Form:
 
 
 def _step_cost(spec: dict, corrected: bool) -> Form:
-    cost = spec.get("cost_corrected") if corrected and "cost_corrected" in spec else spec.get("cost", {})
+    cost: dict = spec["cost_corrected"] if corrected and "cost_corrected" in spec else spec.get("cost", {})
     form = zero_form()
     for kind, value in cost.items():
         form[kind] = parse(value)
@@ -93,7 +93,7 @@ def readings(model: str) -> tuple[str, ...]:
 
 def _bounds(model: str, reading: str = "") -> dict[str, sp.Expr]:
     loops = models.load(model).get("loops", {})
-    override = next((r for r in models.load(model).get("readings", []) if r["name"] == reading), {})
+    override: dict = next((r for r in models.load(model).get("readings", []) if r["name"] == reading), {})
     if reading and not override:
         raise KeyError(f"{model} has no reading {reading!r}")
     return {name: parse(override.get(name, spec["bound"])) for name, spec in loops.items()}

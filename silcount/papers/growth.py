@@ -90,7 +90,9 @@ def run(detector: str, mesh: Mesh) -> Run:
     except SilcountError:
         raise
     except Exception as exc:  # no silent hole: the command fails, naming the detector and the mesh
-        raise SilcountError(f"measurement failed: detector {detector!r} on {mesh.name}: {type(exc).__name__}: {exc}") from exc
+        raise SilcountError(
+            f"measurement failed: detector {detector!r} on {mesh.name}: {type(exc).__name__}: {exc}"
+        ) from exc
     out.tally = {model: {k: int(res.tally[model].get(k, 0)) for k in KINDS} for model in ("paper", "true")}
     out.steps = dict(res.steps)
     return out

@@ -13,6 +13,7 @@ pandas and the detectors load on the first call.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from silcount.papers.claims.base import AMBIGUOUS, CLAIM_FILES, FAILS, HOLDS, VERDICTS, Claim, Reading
@@ -25,11 +26,14 @@ if TYPE_CHECKING:
 
 
 def default_evidence(real: bool = False) -> "Evidence":
-    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), no stencil evidence."""
+    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`) and the render
+    experiments' pixel mismatches of the literal stencil steps
+    (:func:`silcount.render.experiments.stencil_step_evidence`)."""
     from silcount.papers import growth
     from silcount.papers.claims.context import Evidence
+    from silcount.render.experiments import stencil_step_evidence
 
-    return Evidence(exponents=growth.icosphere_evidence(), stencil=None, real=real)
+    return Evidence(exponents=growth.icosphere_evidence(), stencil=stencil_step_evidence(), real=real)
 
 
 def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
@@ -38,19 +42,24 @@ def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
     from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, fps, inventory
 
     ev = default_evidence() if evidence is None else evidence
-    single = {**inventory.RULES, **algorithms.RULES, **citations.RULES, **comparisons.RULES, **fps.RULES}
-    multi = {**comparisons.MULTI, **fps.MULTI}
+    with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
+        **inventory.RULES,
+        **algorithms.RULES,
+        **citations.RULES,
+    }
+    plain: dict[str, Callable[[dict, str], Claim]] = {**comparisons.RULES, **fps.RULES}
+    multi: dict[str, Callable[[dict, str], list[Claim]]] = {**comparisons.MULTI, **fps.MULTI}
     out = derivations.derivation_claims() + cells.cell_claims()
     for name in CLAIM_FILES:
         data = models.load(name)
         for c in data.get("claims", []):
-            check = c["check"]
+            check, source = c["check"], data["source_file"]
             if check in multi:
-                out += multi[check](c, data["source_file"])
-            elif check in comparisons.RULES or check in fps.RULES:
-                out.append(single[check](c, data["source_file"]))
+                out += multi[check](c, source)
+            elif check in plain:
+                out.append(plain[check](c, source))
             else:
-                out.append(single[check](c, data["source_file"], ev))
+                out.append(with_evidence[check](c, source, ev))
     for i, claim in enumerate(out, start=1):
         claim.id = i
     return out

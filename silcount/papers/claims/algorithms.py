@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 
-
 import sympy as sp
 
 from silcount.detectors import detect
@@ -24,7 +23,7 @@ from silcount.papers import growth, projection
 from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, from_readings, show_readings
 from silcount.papers.claims.context import Evidence
 
-STANDARD_ZPASS = {
+STANDARD_ZPASS: dict[str, list] = {
     "required": [
         "ambient_pass",
         "stencil_on",
@@ -36,16 +35,30 @@ STANDARD_ZPASS = {
         "lit_pass",
         "stencil_test",
     ],
-    "before": [("color_write_on", "lit_pass"), ("volume_back_decr", "lit_pass"), ("depth_write_off", "volume_front_incr")],
+    "before": [
+        ("color_write_on", "lit_pass"),
+        ("volume_back_decr", "lit_pass"),
+        ("depth_write_off", "volume_front_incr"),
+    ],
 }
-STANDARD_OPS = {"zpass": {("front", "pass", "incr"), ("back", "pass", "decr")}, "zfail": {("back", "fail", "incr"), ("front", "fail", "decr")}}
-NOT_MEASURED = "not yet measured (the render experiments, silcount.render.experiments, are not on this branch)"
+STANDARD_OPS = {
+    "zpass": {("front", "pass", "incr"), ("back", "pass", "decr")},
+    "zfail": {("back", "fail", "incr"), ("front", "fail", "decr")},
+}
+NOT_MEASURED = "not measured (no stencil evidence given)"
 
 
 def _judged(c, source, family, readings, rederived="", measured=None, reason="") -> Claim:
-    return claim_from_data(c, source, family, rederived=rederived or show_readings(readings), measured=measured,
-                           verdict=from_readings(readings), reason=reason,
-                           readings=readings if len(readings) > 1 else [])
+    return claim_from_data(
+        c,
+        source,
+        family,
+        rederived=rederived or show_readings(readings),
+        measured=measured,
+        verdict=from_readings(readings),
+        reason=reason,
+        readings=readings if len(readings) > 1 else [],
+    )
 
 
 def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
@@ -56,12 +69,20 @@ def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
         got = set(detect(mesh, light, c["detector"], variant=c["variant"], engine="fast").edge_ids.tolist())
         want = set(detect(mesh, light, "reference").edge_ids.tolist())
         agree &= got == want
-        parts.append(f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, "
-                     f"{len(want - got)} missed")
+        parts.append(
+            f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, "
+            f"{len(want - got)} missed"
+        )
     return claim_from_data(
-        c, source, "algorithm", rederived="", measured="; ".join(parts), verdict=HOLDS if agree else FAILS,
+        c,
+        source,
+        "algorithm",
+        rederived="",
+        measured="; ".join(parts),
+        verdict=HOLDS if agree else FAILS,
         reason=f"silcount's {c['detector']} detector, {c['variant']} variant (the loops as printed), against the "
-        "reference (an edge whose two faces differ in facing the light) for one point light per mesh.")
+        "reference (an edge whose two faces differ in facing the light) for one point light per mesh.",
+    )
 
 
 def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
@@ -76,9 +97,15 @@ def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
         empty &= not S
         parts.append(f"{name}: {len(S)} edges left of {mesh.n_edges}")
     return claim_from_data(
-        c, source, "algorithm", rederived="", measured="; ".join(parts), verdict=FAILS if empty else HOLDS,
+        c,
+        source,
+        "algorithm",
+        rederived="",
+        measured="; ".join(parts),
+        verdict=FAILS if empty else HOLDS,
         reason="run over all NP polygons with no visibility test, the toggle adds each edge of a closed mesh from "
-        "one face and deletes it from the other: nothing is left, whatever the light.")
+        "one face and deletes it from the other: nothing is left, whatever the light.",
+    )
 
 
 def step_list(c: dict, source: str, ev: Evidence) -> Claim:
@@ -86,23 +113,41 @@ def step_list(c: dict, source: str, ev: Evidence) -> Claim:
     missing = [op for op in STANDARD_ZPASS["required"] if op not in order]
     late = [(a, b) for a, b in STANDARD_ZPASS["before"] if a in order and b in order and order[a] > order[b]]
     readings = [
-        Reading("the steps run in the order listed", not missing and not late,
-                ", ".join([f"missing: {', '.join(missing)}"] * bool(missing)
-                          + [f"{a} comes after {b}" for a, b in late]) or "the standard sequence"),
-        Reading("the listed order is loose (steps may be one pass)", not missing,
-                f"missing: {', '.join(missing)}" if missing else "every standard step is present"),
+        Reading(
+            "the steps run in the order listed",
+            not missing and not late,
+            ", ".join([f"missing: {', '.join(missing)}"] * bool(missing) + [f"{a} comes after {b}" for a, b in late])
+            or "the standard sequence",
+        ),
+        Reading(
+            "the listed order is loose (steps may be one pass)",
+            not missing,
+            f"missing: {', '.join(missing)}" if missing else "every standard step is present",
+        ),
     ]
-    return _judged(c, source, "stencil", readings, reason="against the standard z-pass sequence (Heidmann 1991; "
-                   "Everitt & Kilgard 2002): " + ", ".join(STANDARD_ZPASS["required"]) + ".")
+    return _judged(
+        c,
+        source,
+        "stencil",
+        readings,
+        reason="against the standard z-pass sequence (Heidmann 1991; "
+        "Everitt & Kilgard 2002): " + ", ".join(STANDARD_ZPASS["required"]) + ".",
+    )
 
 
 def stencil_ops(c: dict, source: str, ev: Evidence) -> Claim:
     got = {tuple(op) for op in c["ops"]}
     same = got == STANDARD_OPS[c["method"]]
-    return claim_from_data(c, source, "stencil", rederived=f"standard {c['method']}: " + "; ".join(
-        "/".join(op) for op in sorted(STANDARD_OPS[c["method"]])), measured=None, verdict=HOLDS if same else FAILS,
+    return claim_from_data(
+        c,
+        source,
+        "stencil",
+        rederived=f"standard {c['method']}: " + "; ".join("/".join(op) for op in sorted(STANDARD_OPS[c["method"]])),
+        measured=None,
+        verdict=HOLDS if same else FAILS,
         reason="reading P_i as 'P_i is front-facing' (the text defines P_i only as 'polygon'); the "
-        f"(face, depth test, stencil op) pairs {'equal' if same else 'differ from'} the standard ones.")
+        f"(face, depth test, stencil op) pairs {'equal' if same else 'differ from'} the standard ones.",
+    )
 
 
 def _c_mod(a: int, b: int) -> int:
@@ -121,30 +166,62 @@ def stencil_test(c: dict, source: str, ev: Evidence) -> Claim:
     readings = []
     for name, lit in TEST_READINGS.items():
         wrong = [s for s in values if lit(s) != (s == 0)]
-        readings.append(Reading(name, not wrong, "lit iff stencil == 0" if not wrong
-                                else "wrong at stencil " + ", ".join(map(str, wrong)) + " (overlapping volumes)"))
+        readings.append(
+            Reading(
+                name,
+                not wrong,
+                "lit iff stencil == 0"
+                if not wrong
+                else "wrong at stencil " + ", ".join(map(str, wrong)) + " (overlapping volumes)",
+            )
+        )
     stencil = (ev.stencil or {}).get(c["evidence"])
-    return _judged(c, source, "stencil", readings, measured=stencil["summary"] if stencil else None,
-                   reason="the text: 'if the number of stencil buffer is not zero it is in shadow'; the test keeps a "
-                   "pixel lit when true, for stencil counts 0-3. " + ("" if stencil else NOT_MEASURED + "."))
+    return _judged(
+        c,
+        source,
+        "stencil",
+        readings,
+        measured=stencil["summary"] if stencil else None,
+        reason="the text: 'if the number of stencil buffer is not zero it is in shadow'; the test keeps a "
+        "pixel lit when true, for stencil counts 0-3. " + ("" if stencil else NOT_MEASURED + "."),
+    )
 
 
 def standard(c: dict, source: str, ev: Evidence) -> Claim:
     same = c["value"] == c["standard"]
-    return claim_from_data(c, source, "stencil", rederived=f"standard: {c['standard']}", measured=None,
-                           verdict=HOLDS if same else FAILS, reason=f"against {c['standard_source']}.")
+    return claim_from_data(
+        c,
+        source,
+        "stencil",
+        rederived=f"standard: {c['standard']}",
+        measured=None,
+        verdict=HOLDS if same else FAILS,
+        reason=f"against {c['standard_source']}.",
+    )
 
 
 def truncated_volume(c: dict, source: str, ev: Evidence) -> Claim:
     stencil = (ev.stencil or {}).get(c["evidence"])
     readings = [
-        Reading("every receiver lies on the clipping plane (a floor)", True, "a point in shadow lies between the "
-                "occluder and the plane, inside the truncated volume"),
-        Reading("receivers off the clipping plane (the paper's torus and sphere, stencil paper Sec. 6)", False,
-                "shadow on a receiver beyond the clipping plane is lost"),
+        Reading(
+            "every receiver lies on the clipping plane (a floor)",
+            True,
+            "a point in shadow lies between the occluder and the plane, inside the truncated volume",
+        ),
+        Reading(
+            "receivers off the clipping plane (the paper's torus and sphere, stencil paper Sec. 6)",
+            False,
+            "shadow on a receiver beyond the clipping plane is lost",
+        ),
     ]
-    return _judged(c, source, "stencil", readings, measured=stencil["summary"] if stencil else None,
-                   reason="no speed-up figure is given. " + ("" if stencil else NOT_MEASURED + "."))
+    return _judged(
+        c,
+        source,
+        "stencil",
+        readings,
+        measured=stencil["summary"] if stencil else None,
+        reason="no speed-up figure is given. " + ("" if stencil else NOT_MEASURED + "."),
+    )
 
 
 def _projection_readings(obj: str) -> list[Reading]:
@@ -163,21 +240,35 @@ def _projection(c: dict, source: str, ev: Evidence) -> Claim:
     elif obj == "shadow_matrix":
         readings = [Reading(f"{r.reading}, as a projective map", r.holds, r.outcome) for r in _projection_readings(obj)]
         w_sign = projection.w_of_occluder_point()
-        readings.append(Reading("as the OpenGL modelview matrix (MultMatrix, then a perspective projection)", False,
-                                f"with the exact E, D, w = N.P - N.L = {sp.sstr(w_sign)} < 0 for an occluder point "
-                                "between the light and the plane: clipped"))
-        reason = ("the printed matrix is the standard planar shadow matrix (Real-Time Rendering, its [28]) times -1"
-                  if projection.printed_is_minus_standard() else "the printed matrix is not the standard one up to sign")
+        readings.append(
+            Reading(
+                "as the OpenGL modelview matrix (MultMatrix, then a perspective projection)",
+                False,
+                f"with the exact E, D, w = N.P - N.L = {sp.sstr(w_sign)} < 0 for an occluder point "
+                "between the light and the plane: clipped",
+            )
+        )
+        reason = (
+            "the printed matrix is the standard planar shadow matrix (Real-Time Rendering, its [28]) times -1"
+            if projection.printed_is_minus_standard()
+            else "the printed matrix is not the standard one up to sign"
+        )
         reason += "; applied to (P, 1) it equals the new-pixel formula." if a.matrix_equals_formula else "."
         stencil = (ev.stencil or {}).get(c.get("evidence", ""))
         measured = stencil["summary"] if stencil else None
         reason += "" if stencil else " " + NOT_MEASURED + "."
     else:
         readings = [
-            Reading("as printed: (P-C)N = 0, and P on both sides", False,
-                    "says the occluder point lies on the plane; P = L + a(P - L) forces a = 1 or P = L"),
-            Reading("P on the left read as S (the conversion may have garbled S)", bool(a.solutions),
-                    "S = L + E/(NP - D)(P - L) is exact iff " + " or ".join(a.solutions)),
+            Reading(
+                "as printed: (P-C)N = 0, and P on both sides",
+                False,
+                "says the occluder point lies on the plane; P = L + a(P - L) forces a = 1 or P = L",
+            ),
+            Reading(
+                "P on the left read as S (the conversion may have garbled S)",
+                bool(a.solutions),
+                "S = L + E/(NP - D)(P - L) is exact iff " + " or ".join(a.solutions),
+            ),
         ]
         reason, measured = "E and D are never defined (see the new-pixel claim).", None
     return _judged(c, source, "projection", readings, measured=measured, reason=reason)
@@ -193,4 +284,3 @@ RULES = {
     "truncated_volume": truncated_volume,
     "projection": _projection,
 }
-

@@ -31,7 +31,9 @@ def digit_slip(printed: int, value: int) -> str:
 
 
 def _why(model: str, kind: str) -> str:
-    causes = [f"the printed '{cur}' changes it by {sp.sstr(d[kind])}" for _, cur, d in F.expansion_steps(model) if kind in d]
+    causes = [
+        f"the printed '{cur}' changes it by {sp.sstr(d[kind])}" for _, cur, d in F.expansion_steps(model) if kind in d
+    ]
     conv, first = F.paper_forms(model)["convention"][kind], F.paper_forms(model)["first"][kind]
     if sp.expand(conv - first) != 0:
         causes.append(f"the first printed line leaves out {sp.sstr(sp.factor(conv - first))} of its annotations")
@@ -52,11 +54,15 @@ def cell_claims() -> list[Claim]:
                     notes = []
                     if c["typo"]:
                         slip = digit_slip(printed, closed)
-                        notes.append(f"typo: the paper's own closed form gives {closed}" + (f" ({slip})" if slip else ""))
+                        notes.append(
+                            f"typo: the paper's own closed form gives {closed}" + (f" ({slip})" if slip else "")
+                        )
                     else:
                         notes.append("equals the paper's own closed form")
                     if c["model"]:
-                        notes.append(f"model: the closed form differs from its annotations ({_why(row['model'], kind)})")
+                        notes.append(
+                            f"model: the closed form differs from its annotations ({_why(row['model'], kind)})"
+                        )
                     notes.append(f"tight worst case {c['worst_case']}")
                     out.append(
                         Claim(

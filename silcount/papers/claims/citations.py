@@ -24,11 +24,17 @@ def citation(c: dict, source: str, ev: Evidence) -> Claim:
         [] if year_ok else [f"the entry's year is {', '.join(map(str, years)) or 'not given'}, not {c.get('year')}"]
     )
     return claim_from_data(
-        c, source, "attribution",
+        c,
+        source,
+        "attribution",
         rederived=f"reference entry: {ref[:100]}" + ("..." if len(ref) > 100 else ""),
         measured=None,
         verdict=HOLDS if not problems else FAILS,
-        reason=("; ".join(problems) if problems else "the cited entry names the author" + (" and the year" if "year" in c else ""))
+        reason=(
+            "; ".join(problems)
+            if problems
+            else "the cited entry names the author" + (" and the year" if "year" in c else "")
+        )
         + f" (reference list, lines {c['ref_lines']}).",
     )
 
@@ -36,12 +42,16 @@ def citation(c: dict, source: str, ev: Evidence) -> Claim:
 def earlier_use(c: dict, source: str, ev: Evidence) -> Claim:
     earlier = c["earlier_year"] < c["year"]
     return claim_from_data(
-        c, source, "attribution",
+        c,
+        source,
+        "attribution",
         rederived=f"the same paper, lines {c['earlier_lines']}: '{c['earlier_quote']}' ({c['earlier_year']})",
         measured=None,
         verdict=FAILS if earlier else HOLDS,
         reason=f"the paper itself reports the stencil buffer in shadow volumes in {c['earlier_year']}, before "
-        f"{c['year']}" if earlier else "no earlier use in the paper.",
+        f"{c['year']}"
+        if earlier
+        else "no earlier use in the paper.",
     )
 
 

@@ -63,9 +63,9 @@ def pairwise(c: dict, source: str) -> list[Claim]:
         readings = []
         for name, (rw, ro) in _pairs_of_readings(winner, other):
             a, b = _value(winner, rw, w, point), _value(other, ro, w, point)
-            at_n = cycles(winner, "convention", w, rw).subs(F.n, point["n"]) - cycles(
-                other, "convention", w, ro
-            ).subs(F.n, point["n"])
+            at_n = cycles(winner, "convention", w, rw).subs(F.n, point["n"]) - cycles(other, "convention", w, ro).subs(
+                F.n, point["n"]
+            )
             readings.append(
                 Reading(
                     name or "as printed",
@@ -121,8 +121,7 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
         rederived=show_readings(readings),
         measured=None,
         verdict=from_readings(readings),
-        reason="leading cycle terms (paper weights) of the papers'-convention sums as n grows. "
-        + c.get("m_note", ""),
+        reason="leading cycle terms (paper weights) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
         readings=readings,
     )
 
@@ -142,13 +141,19 @@ def cycle_ratio(c: dict, source: str) -> Claim:
                     f"m = {mv}" + (f", {name}" if name else ""),
                     abs(at - c["ratio"]) <= c["tolerance"] * c["ratio"],
                     f"ratio {at:.3f} at n = {c['faces']}; limit {sp.sstr(limit)}"
-                    + (f", equal to {c['ratio']} only at m = {', '.join(f'{float(x):.4g}' for x in solve)}" if solve else ""),
+                    + (
+                        f", equal to {c['ratio']} only at m = {', '.join(f'{float(x):.4g}' for x in solve)}"
+                        if solve
+                        else ""
+                    ),
                 )
             )
     raw = [
-        float((cycles(c["numerator"], "printed", unit_weights()) / cycles(c["denominator"], "printed", unit_weights())).subs(
-            {F.n: c["faces"], F.m: mv}
-        ))
+        float(
+            (
+                cycles(c["numerator"], "printed", unit_weights()) / cycles(c["denominator"], "printed", unit_weights())
+            ).subs({F.n: c["faces"], F.m: mv})
+        )
         for mv in c["m_values"]
     ]
     return claim_from_data(
@@ -191,12 +196,16 @@ def equal_kinds(c: dict, source: str) -> Claim:
     readings = []
     for name, combo in _pairs_of_readings(*c["models"]):
         vals = {
-            kind: [F.evaluate(F.paper_forms(mdl, r)["convention"], **c["point"])[kind] for mdl, r in zip(c["models"], combo)]
+            kind: [
+                F.evaluate(F.paper_forms(mdl, r)["convention"], **c["point"])[kind]
+                for mdl, r in zip(c["models"], combo)
+            ]
             for kind in c["kinds"]
         }
         ok = all(len(set(v)) == 1 for v in vals.values())
         outcome = "; ".join(
-            f"{kind}: " + ", ".join(f"{algo(mdl)} {num(x)}" for mdl, x in zip(c["models"], v)) for kind, v in vals.items()
+            f"{kind}: " + ", ".join(f"{algo(mdl)} {num(x)}" for mdl, x in zip(c["models"], v))
+            for kind, v in vals.items()
         )
         readings.append(Reading(name or "as printed", ok, outcome))
     return claim_from_data(

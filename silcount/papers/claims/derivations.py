@@ -52,10 +52,14 @@ def _line_part(model: str, i: int) -> tuple[str, str]:
 
 
 def _diff_text(diff: dict) -> str:
-    return ", ".join(f"{k}: {'+' if not str(d).startswith('-') else ''}{sp.sstr(sp.factor(d))}" for k, d in diff.items())
+    return ", ".join(
+        f"{k}: {'+' if not str(d).startswith('-') else ''}{sp.sstr(sp.factor(d))}" for k, d in diff.items()
+    )
 
 
-def _claim(model: str, key: str, parts, statement: str, printed: str, rederived: str, verdict: str, reason: str, readings):
+def _claim(
+    model: str, key: str, parts, statement: str, printed: str, rederived: str, verdict: str, reason: str, readings
+):
     quote, lines = _located(parts)
     return Claim(
         key=f"{model} {key}",

@@ -14,8 +14,23 @@ if TYPE_CHECKING:
 
     from silcount.counting.cycles import Profile
 
-COLUMNS = ("id", "key", "family", "paper", "where", "section", "lines", "quote", "statement", "readings",
-           "printed", "rederived", "measured", "verdict", "reason")
+COLUMNS = (
+    "id",
+    "key",
+    "family",
+    "paper",
+    "where",
+    "section",
+    "lines",
+    "quote",
+    "statement",
+    "readings",
+    "printed",
+    "rederived",
+    "measured",
+    "verdict",
+    "reason",
+)
 LABEL = {"eesd2012": "EESD 2012", "hsd2011": "HSD 2011", "stencil2011": "Stencil 2011"}
 
 
@@ -108,20 +123,32 @@ def summary_markdown(claims: list[Claim]) -> str:
 
 def findings(claims: list[Claim]) -> str:
     """The README findings table: the counts per paper, then every FAILS with its location and reason."""
-    out = [summary_markdown(claims), "", "| paper | where | claim | printed | re-derived / measured | why |",
-           "|---|---|---|---|---|---|"]
+    out = [
+        summary_markdown(claims),
+        "",
+        "| paper | where | claim | printed | re-derived / measured | why |",
+        "|---|---|---|---|---|---|",
+    ]
     for c in claims:
         if c.verdict == FAILS and c.family != "attribution":
             evidence = c.rederived if not c.measured else f"{c.rederived}; measured: {c.measured}".lstrip("; ")
-            out.append(f"| {_paper(c)} | {_md(c.where)} | {_md(c.statement)} | {_md(c.printed)} | {_md(evidence)} | "
-                       f"{_md(c.reason)} |")
+            out.append(
+                f"| {_paper(c)} | {_md(c.where)} | {_md(c.statement)} | {_md(c.printed)} | {_md(evidence)} | "
+                f"{_md(c.reason)} |"
+            )
     wrong = [c for c in claims if c.verdict == FAILS and c.family == "attribution"]
-    out += ["", f"Attributions that fail against the paper's own reference list: "
-            + "; ".join(f"{_paper(c)} {c.where}: {c.statement}" for c in wrong) + "."]
+    out += [
+        "",
+        "Attributions that fail against the paper's own reference list: "
+        + "; ".join(f"{_paper(c)} {c.where}: {c.statement}" for c in wrong)
+        + ".",
+    ]
     return "\n".join(out) + "\n"
 
 
 def write_all(claims: list[Claim], out_dir: Path) -> list[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
-    return [write_text(out_dir / f"claims.{ext}", RENDER[fmt](claims)) for ext, fmt in
-            (("txt", "text"), ("md", "md"), ("json", "json"))]
+    return [
+        write_text(out_dir / f"claims.{ext}", RENDER[fmt](claims))
+        for ext, fmt in (("txt", "text"), ("md", "md"), ("json", "json"))
+    ]
