@@ -67,21 +67,21 @@ def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
 
 def claims_frame(evidence: "Evidence | None" = None) -> "pd.DataFrame":
     """Every claim as a pandas DataFrame with the report's columns (``readings`` as a list of dicts)."""
-    from silcount.papers.claims.report import frame
+    from silcount.papers.claims.rendering import frame
 
     return frame(all_claims(evidence))
 
 
 def findings_markdown(evidence: "Evidence | None" = None) -> str:
     """The README's findings table, generated from the claims: verdict counts per paper and every FAILS."""
-    from silcount.papers.claims.report import findings
+    from silcount.papers.claims.rendering import findings
 
     return findings(all_claims(evidence))
 
 
 def render(fmt: str, extra_profile: "Profile | None" = None) -> str:
     """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings)."""
-    from silcount.papers.claims.report import RENDER
+    from silcount.papers.claims.rendering import RENDER
 
     return RENDER[fmt](all_claims(), extra_profile)
 
@@ -90,7 +90,7 @@ def report(out_dir):
     """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}``."""
     from pathlib import Path
 
-    from silcount.papers.claims.report import write_all
+    from silcount.papers.claims.rendering import write_all
 
     return write_all(all_claims(), Path(out_dir) / "claims")
 
