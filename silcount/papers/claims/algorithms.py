@@ -45,6 +45,7 @@ STANDARD_OPS = {
     "zpass": {("front", "pass", "incr"), ("back", "pass", "decr")},
     "zfail": {("back", "fail", "incr"), ("front", "fail", "decr")},
 }
+VARIANT_NOTE = {"literal": "the loops as printed", "intended": "the text's intended reading"}
 NOT_MEASURED = "not measured (no stencil evidence given)"
 
 
@@ -80,8 +81,9 @@ def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
         rederived="",
         measured="; ".join(parts),
         verdict=HOLDS if agree else FAILS,
-        reason=f"silcount's {c['detector']} detector, {c['variant']} variant (the loops as printed), against the "
-        "reference (an edge whose two faces differ in facing the light) for one point light per mesh.",
+        reason=f"silcount's {c['detector']} detector, {c['variant']} variant ({VARIANT_NOTE[c['variant']]}), against "
+        "the reference (an edge whose two faces differ in facing the light, the papers' Sec. 2 definition) for one "
+        "point light per mesh.",
     )
 
 
