@@ -24,6 +24,7 @@ import silcount
 from silcount.counting import paper as models
 from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
+from silcount.papers import kernels
 
 MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
 
@@ -169,10 +170,15 @@ def test_ta_branch_fractions_match_simulation(name):
         ("ray_point", {"mul": 3, "add": 3}),  # x0 + t d
         ("light_vector", {"add": 3}),  # L - p0
         ("normal_from_corners", {"add": 9, "mul": 6}),  # 2 differences (6A) + cross product (6M + 3A)
+        ("light_vector_homogeneous", {"add": 3, "mul": 3}),  # L - w p0
+        ("edge_inverse", {}),  # a swap of two ids
+        ("point_in_plane", {"mul": 3, "add": 3, "cmp": 1}),  # a Rx + b Ry + c Rz + d == 0
+        ("ray_plane", {"mul": 7, "add": 5, "cmp": 1}),  # (n.x0 + d) (3M 3A), n.dir (3M 2A), product sign (1M 1C)
+        ("visibility_precomputed", {"add": 5, "mul": 3, "cmp": 1}),  # L - p0, dot, sign
     ],
 )
 def test_kernel_costs_by_hand(kernel, expected):
-    assert F.kernel_cost(kernel) == expected
+    assert kernels.kernel_cost(kernel) == expected
 
 
 def test_corrected_visibility_cost_is_what_the_detectors_execute():
@@ -193,3 +199,72 @@ def test_rederived_hsd_uses_m_minus_one():
 def test_leading_and_degree():
     assert F.leading(3 * F.n**2 * F.m + F.n) == 3 * F.n**2 * F.m
     assert F.degree(F.weighted(F.forms("eesd2012-eesd")["rederived"], dict.fromkeys(KINDS, 1))) == 2
+
+
+def _brute_convention(model: str, f: int, e: int, m: int, worst: bool) -> dict[str, int]:
+    """The pseudo-code's loops executed by hand: every condition true (convention) or the dearer arm per kind."""
+    total = dict.fromkeys(KINDS, 0)
+    algorithm = models.load(model)["algorithm"]
+
+    def arm(*steps_):
+        out = dict.fromkeys(KINDS, 0)
+        for step in steps_:
+            _add(out, model, step, e)
+        return out
+
+    def charge(cost):
+        for k in KINDS:
+            total[k] += cost[k]
+
+    if algorithm in ("ta", "hsd"):
+        then, other = arm("delete"), arm("add")
+        branch = {k: max(then[k], other[k]) for k in KINDS} if worst else then
+        for _face in range(f):
+            _add(total, model, "visibility", e)
+            for _side in range(m):
+                _add(total, model, "search_S", e)
+                charge(branch)
+    elif algorithm == "vnv":
+        for _edge in range(e):
+            for _face in range(f):
+                _add(total, model, "visibility", e)
+                _add(total, model, "counter", e)
+            _add(total, model, "check_counter", e)
+            _add(total, model, "add", e)
+    else:
+        for _edge in range(e):
+            _add(total, model, "extend", e)
+            _add(total, model, "ray", e)
+            for _face in range(f):
+                _add(total, model, "intersection", e)
+                _add(total, model, "add", e)
+    return total
+
+
+@pytest.mark.parametrize("model", ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv"))
+@pytest.mark.parametrize("f, e, m", [(1, 1, 1), (4, 6, 3), (7, 9, 4)])
+def test_convention_and_worst_case_equal_the_loops_run_by_hand(model, f, e, m):
+    for worst, form in ((False, F.convention(model)), (True, F.worst_case(model))):
+        got = {k: int(x.subs({F.f_n: f, F.e_n: e, F.m: m})) for k, x in form.items()}
+        assert got == _brute_convention(model, f, e, m, worst), (model, worst)
+
+
+def test_the_papers_convention_is_the_first_printed_line_for_ta_and_vnv():
+    for model in ("eesd2012-ta", "eesd2012-vnv", "hsd2011-ta", "hsd2011-vnv"):
+        assert F.difference(F.convention(model), F.printed_lines(model)[0].form) == {}
+    # EESD: the annotated 1Add of 'Add v1v2 to S' per (edge, face) is missing from the printed line
+    assert F.difference(F.convention("eesd2012-eesd"), F.printed_lines("eesd2012-eesd")[0].form) == {
+        "add": F.e_n * F.f_n
+    }
+
+
+def test_worst_case_charges_the_hsd_papers_dearer_add():
+    # HSD paper 6.1: add = 1W + 1R + 2W = 3W, delete = 1R + 2W: the worst case writes 3 per side
+    assert sp.expand(F.worst_case("hsd2011-ta")["write"] - 3 * F.f_n * F.m) == 0
+    assert sp.expand(F.worst_case("eesd2012-ta")["write"] - 2 * F.f_n * F.m) == 0
+
+
+def test_hsd_readings_give_the_printed_sum_or_m_minus_one():
+    one, minus = F.readings("hsd2011-hsd")
+    assert F.difference(F.convention("hsd2011-hsd", one), F.printed_lines("hsd2011-hsd")[0].form) == {}
+    assert sp.expand(F.convention("hsd2011-hsd", minus)["cmp"] - F.f_n * (1 + (F.m - 1) * F.e_n)) == 0

@@ -4,11 +4,15 @@ Scenes are ``silcount-scene/1`` files (``../shared/scenes/README.md``).  The
 stencil methods take the silhouette of ``--detector`` (``--variant`` goes to
 the detector); ``planar`` projects the casters onto the floor with the
 stencil paper's shadow matrix (``--variant literal`` is the printed matrix,
-``intended`` the corrected one).  Warnings (open casters, the eye inside a
-shadow volume) go to stderr.
+``intended`` the corrected one).  ``--shadow-test parity`` and ``--volume
+truncated`` are the stencil paper's printed steps taken literally (the final
+``If (~Stencil % 2)``; the volumes clipped at the receiver by the "new pixel"
+formula), see :mod:`silcount.render.stencil` and :mod:`silcount.render.volumes`.
+Warnings (open casters, the eye inside a shadow volume) go to stderr.
 
-:func:`report` renders every shared scene into ``<out>/renders/`` with every
-method and every installed detector and writes ``summary.json`` and
+:func:`report` renders the built-in scenes (:mod:`silcount.render.builtin`)
+and every shared scene into ``<out>/renders/`` with every method, every
+literal step and every installed detector and writes ``summary.json`` and
 ``summary.md``: each mask against the ray-cast ground truth, each detector's
 z-fail mask against the reference detector's.
 """
@@ -25,12 +29,14 @@ import numpy as np
 
 from silcount.atomic import write_text
 from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument
+from silcount.errors import BadArgument, SilcountError
+from silcount.render.builtin import BUILTIN, builtin_scene
 from silcount.render.masks import compare_masks, write_mask, write_png
 from silcount.render.methods import METHODS, Rendered, render_method
 from silcount.render.planar import floor_plane
 from silcount.render.scene import Scene, load_scene
 from silcount.render.shade import shade
+from silcount.render.stencil import SHADOW_TESTS, VOLUMES
 
 HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
 REPO = Path(__file__).resolve().parents[2]
@@ -50,6 +56,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=("intended", "literal"),
         default="intended",
         help="detector variant (zpass/zfail) or shadow matrix (planar); default intended",
+    )
+    parser.add_argument(
+        "--shadow-test",
+        choices=SHADOW_TESTS,
+        default="nonzero",
+        help="zpass/zfail final test: nonzero (the text's 'not zero means shadow', default) or parity "
+        "(the printed 'If (~Stencil %% 2)': shadow where the stencil is odd)",
+    )
+    parser.add_argument(
+        "--volume",
+        choices=VOLUMES,
+        default="infinite",
+        help="zpass/zfail volumes: infinite (default) or truncated at the floor plane by the paper's 'new pixel'",
     )
     parser.add_argument("--out", type=Path, required=True, metavar="mask.png", help="8-bit mask PNG, 255 in shadow")
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
@@ -74,14 +93,20 @@ def run(args: argparse.Namespace) -> int:
     for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
         _check_out(path, flag)
     scene = load_scene(args.scene)
-    r = render_method(scene, args.method, args.detector, args.variant)
+    if args.method not in ("zpass", "zfail") and (args.shadow_test != "nonzero" or args.volume != "infinite"):
+        raise BadArgument(f"--shadow-test and --volume apply to zpass and zfail, not to {args.method}")
+    r = render_method(scene, args.method, args.detector, args.variant, args.shadow_test, args.volume)
     for msg in r.messages:
         print(f"silcount render: warning: {msg}", file=sys.stderr)
     write_outputs(scene, r, args.out, args.coverage, args.image)
     print(
         f"{args.out}: {int(r.mask.sum())} pixels in shadow of {int(r.coverage.sum())} covered "
         f"({scene.width}x{scene.height}, {args.method}"
-        + (f", {args.detector} {args.variant}" if args.method in ("zpass", "zfail") else "")
+        + (
+            f", {args.detector} {args.variant}, {args.shadow_test} test, {args.volume} volumes"
+            if args.method in ("zpass", "zfail")
+            else ""
+        )
         + (f", {args.variant} shadow matrix" if args.method == "planar" else "")
         + ")"
     )
@@ -113,12 +138,73 @@ def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
     }
 
 
+LITERAL_STEPS = {  # key: (method, shadow test, volume); the stencil paper's printed steps (issue 10, Sec. 5)
+    "zfail-parity": ("zfail", "parity", "infinite"),
+    "zpass-parity": ("zpass", "parity", "infinite"),
+    "zpass-truncated": ("zpass", "nonzero", "truncated"),
+    "zfail-truncated": ("zfail", "nonzero", "truncated"),
+}
+
+
+def _render_scene(scene: Scene, dest: Path, written: list[Path]) -> dict:
+    """Every method, literal step and detector on one scene; masks into ``dest``; the scene's summary entry."""
+    name = scene.name
+    truth = render_method(scene, "raycast")
+    written += write_outputs(
+        scene, truth, dest / f"{name}.raycast.png", dest / f"{name}.coverage.png", dest / f"{name}.raycast.shaded.png"
+    )
+    entry: dict = {"resolution": [scene.width, scene.height], "methods": {}, "literal_steps": {}, "detectors": {}}
+    for method in ("zpass", "zfail"):
+        r = render_method(scene, method)
+        shaded = dest / f"{name}.{method}.shaded.png" if method == "zfail" else None
+        written += write_outputs(scene, r, dest / f"{name}.{method}.png", None, shaded)
+        entry["methods"][method] = _entry(r.mask, truth.mask, truth.coverage) | {"messages": r.messages}
+        if method == "zfail":
+            ref_mask = r.mask
+    try:
+        k, _, _ = floor_plane(scene)
+    except BadArgument:
+        k = None
+    for key, (method, test, volume) in LITERAL_STEPS.items():
+        if volume == "truncated" and k is None:
+            continue
+        r = render_method(scene, method, shadow_test=test, volume=volume)
+        written += write_outputs(scene, r, dest / f"{name}.{key}.png", None, None)
+        entry["literal_steps"][key] = _entry(r.mask, truth.mask, truth.coverage)
+    if k is not None:
+        floor = truth.coverage & (scene.triangle_object[np.maximum(truth.tri_id, 0)] == k)
+        for variant in ("intended", "literal"):
+            r = render_method(scene, "planar", variant=variant)
+            written += write_outputs(scene, r, dest / f"{name}.planar-{variant}.png", None, None)
+            entry["methods"][f"planar-{variant}"] = _entry(r.mask, truth.mask, floor)
+    for det in DETECTORS:
+        for variant in ("intended", "literal"):
+            key = f"{det}-{variant}"
+            try:
+                r = render_method(scene, "zfail", det, variant)
+            except SilcountError as exc:  # fail the report, naming the part
+                raise type(exc)(f"renders: {name}: z-fail with detector {key}: {exc}") from None
+            same = int((r.mask != ref_mask).sum())
+            entry["detectors"][key] = _entry(r.mask, truth.mask, truth.coverage) | {
+                "pixels_differing_from_reference": same
+            }
+            if same:
+                written.append(write_mask(dest / f"{name}.zfail.{key}.png", r.mask))
+    return entry
+
+
 def report(out_dir: Path) -> list[Path]:
-    """Render the shared scenes into ``out_dir/renders/``; masks, coverage, shaded images, a summary."""
-    scenes = shared_scene_dir()
-    if scenes is None:
-        print("silcount report: skipped renders: no shared scenes (set SILCOUNT_SCENE_DIR)", file=sys.stderr)
-        return []
+    """Render the built-in scenes and the shared ones into ``out_dir/renders/``: masks, shaded images, a summary.
+
+    The built-in scenes (:mod:`silcount.render.builtin`) are always rendered; the shared scenes when
+    :func:`shared_scene_dir` finds them.
+    """
+    scenes = [builtin_scene(n) for n in BUILTIN]
+    shared = shared_scene_dir()
+    if shared is None:
+        print("silcount report: renders: no shared scenes (set SILCOUNT_SCENE_DIR); built-in only", file=sys.stderr)
+    else:
+        scenes += [load_scene(p) for p in sorted(shared.glob("*.json"))]
     dest = out_dir / "renders"
     dest.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
@@ -127,55 +213,8 @@ def report(out_dir: Path) -> list[Path]:
         "note": "fractions are mismatched / covered pixels against raycast "
         "(planar: floor pixels only); far = more than one pixel from a mask edge",
     }
-    for path in sorted(scenes.glob("*.json")):
-        scene = load_scene(path)
-        name = scene.name
-        truth = render_method(scene, "raycast")
-        written += write_outputs(
-            scene,
-            truth,
-            dest / f"{name}.raycast.png",
-            dest / f"{name}.coverage.png",
-            dest / f"{name}.raycast.shaded.png",
-        )
-        entry: dict = {"resolution": [scene.width, scene.height], "methods": {}, "detectors": {}}
-        for method in ("zpass", "zfail"):
-            r = render_method(scene, method)
-            written += write_outputs(
-                scene,
-                r,
-                dest / f"{name}.{method}.png",
-                None,
-                dest / f"{name}.{method}.shaded.png" if method == "zfail" else None,
-            )
-            entry["methods"][method] = _entry(r.mask, truth.mask, truth.coverage) | {"messages": r.messages}
-            if method == "zfail":
-                ref_mask = r.mask
-        try:
-            k, _, _ = floor_plane(scene)
-        except BadArgument:
-            k = None
-        if k is not None:
-            floor = truth.coverage & (scene.triangle_object[np.maximum(truth.tri_id, 0)] == k)
-            for variant in ("intended", "literal"):
-                r = render_method(scene, "planar", variant=variant)
-                written += write_outputs(scene, r, dest / f"{name}.planar-{variant}.png", None, None)
-                entry["methods"][f"planar-{variant}"] = _entry(r.mask, truth.mask, floor)
-        for det in DETECTORS:
-            for variant in ("intended", "literal"):
-                key = f"{det}-{variant}"
-                try:
-                    r = render_method(scene, "zfail", det, variant)
-                except Exception as exc:  # a detector variant that cannot run is a finding, not a crash
-                    entry["detectors"][key] = {"error": f"{type(exc).__name__}: {exc}"}
-                    continue
-                same = int((r.mask != ref_mask).sum())
-                entry["detectors"][key] = _entry(r.mask, truth.mask, truth.coverage) | {
-                    "pixels_differing_from_reference": same
-                }
-                if same:
-                    written.append(write_mask(dest / f"{name}.zfail.{key}.png", r.mask))
-        summary["scenes"][name] = entry
+    for scene in scenes:
+        summary["scenes"][scene.name] = _render_scene(scene, dest, written)
     written.append(write_text(dest / "summary.json", json.dumps(summary, indent=2, sort_keys=True) + "\n"))
     written.append(write_text(dest / "summary.md", summary_markdown(summary)))
     return written
@@ -199,6 +238,22 @@ def summary_markdown(summary: dict) -> str:
             )
     lines += [
         "",
+        "## The stencil paper's literal steps",
+        "",
+        "`parity`: the printed final test `If (~Stencil % 2)` (shadow where the stencil is odd) instead of the",
+        "text's 'not zero'; `truncated`: volumes stopped at the floor plane by the 'new pixel' step (Sec. 5).",
+        "",
+        "| scene | step | shadow px | mismatched | fraction | far | matches |",
+        "|---|---|---:|---:|---:|---:|---|",
+    ]
+    for scene, e in summary["scenes"].items():
+        for key, m in e["literal_steps"].items():
+            lines.append(
+                f"| {scene} | {key} | {m['shadow_pixels']} | {m['mismatched']} | {m['fraction']:.6f} "
+                f"| {m['far_mismatches']} | {'yes' if m['matches'] else 'NO'} |"
+            )
+    lines += [
+        "",
         "## z-fail masks per detector",
         "",
         "| scene | detector-variant | fraction vs raycast | far | pixels differing from reference |",
@@ -206,13 +261,10 @@ def summary_markdown(summary: dict) -> str:
     ]
     for scene, e in summary["scenes"].items():
         for key, d in e["detectors"].items():
-            if "error" in d:
-                lines.append(f"| {scene} | {key} | error: {d['error']} | | |")
-            else:
-                lines.append(
-                    f"| {scene} | {key} | {d['fraction']:.6f} | {d['far_mismatches']} "
-                    f"| {d['pixels_differing_from_reference']} |"
-                )
+            lines.append(
+                f"| {scene} | {key} | {d['fraction']:.6f} | {d['far_mismatches']} "
+                f"| {d['pixels_differing_from_reference']} |"
+            )
     notes = [
         f"- {scene} {method}: {msg}"
         for scene, e in summary["scenes"].items()

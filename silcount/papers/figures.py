@@ -190,7 +190,8 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
             if col == 0:
                 ax.set_ylabel("count per query")
     fig.suptitle(
-        "Measured operation counts by kind vs faces (icosphere sweep, log-log; legend: fitted exponent b in count ~ F^b)"
+        "Measured operation counts by kind vs faces "
+        "(icosphere sweep, log-log; legend: fitted exponent b in count ~ F^b)"
     )
     fig.tight_layout()
     return _save(fig, out_dir, "growth_by_kind")

@@ -19,6 +19,19 @@ and compares them term by term (:func:`expansion_steps`,
 runs the side loop for every face, which is exact only when every face is
 light-facing, and then a closed mesh has no silhouette edge.
 
+Two further re-derivations judge a printed sum on the papers' own terms
+(``under`` of each step names the conditionals and arms that enclose it):
+
+* :func:`convention`: the papers' convention, visible in how their first lines
+  are built: every condition is taken as true on every iteration and the
+  then-branch's annotated cost is charged, loops at their bounds;
+* :func:`worst_case`: the tight worst case: loops at their bounds, each
+  conditional charged at its dearest arm (per operation kind).
+
+Where the paper allows more than one loop bound (HSD: "decreased by 1"),
+``[[readings]]`` of the model file name each reading and its bounds; every
+function takes a ``reading`` (``""``: the loops' ``bound``).
+
 Kind symbols in printed forms: A (add), M (mul), C (cmp), R (read), W (write).
 Sources: EESD paper Sec. 5.1-5.3; HSD paper Sec. VI 6.1-6.3.
 """
@@ -31,7 +44,7 @@ from functools import cache
 import sympy as sp
 
 from silcount.counting import paper as models
-from silcount.counting.arithmetic import KINDS, Num, OpCounter
+from silcount.counting.arithmetic import KINDS
 
 n, f_n, e_n, m = (models.symbols()[k] for k in ("n", "f_n", "e_n", "m"))
 v, s = sp.Symbol("v", nonnegative=True), sp.Symbol("s", nonnegative=True)
@@ -62,7 +75,7 @@ def zero_form() -> Form:
 
 
 def _step_cost(spec: dict, corrected: bool) -> Form:
-    cost = spec.get("cost_corrected") if corrected and "cost_corrected" in spec else spec.get("cost", {})
+    cost: dict = spec["cost_corrected"] if corrected and "cost_corrected" in spec else spec.get("cost", {})
     form = zero_form()
     for kind, value in cost.items():
         form[kind] = parse(value)
@@ -73,24 +86,105 @@ def steps(model: str) -> dict[str, dict]:
     return models.load(model).get("steps", {})
 
 
-def step_runs(model: str, step: str) -> tuple[sp.Expr, sp.Expr]:
+def readings(model: str) -> tuple[str, ...]:
+    """The names of the model's readings of its loop bounds (``("",)`` when the paper allows one)."""
+    return tuple(r["name"] for r in models.load(model).get("readings", [])) or ("",)
+
+
+def _bounds(model: str, reading: str = "") -> dict[str, sp.Expr]:
+    loops = models.load(model).get("loops", {})
+    override: dict = next((r for r in models.load(model).get("readings", []) if r["name"] == reading), {})
+    if reading and not override:
+        raise KeyError(f"{model} has no reading {reading!r}")
+    return {name: parse(override.get(name, spec["bound"])) for name, spec in loops.items()}
+
+
+def _loops(spec: dict, bounds: dict[str, sp.Expr]) -> sp.Expr:
+    out = sp.Integer(1)
+    for name in spec.get("within", []):
+        out *= bounds[name]
+    return out
+
+
+def step_runs(model: str, step: str, reading: str = "") -> tuple[sp.Expr, sp.Expr]:
     """(runs charged by the printed sum, runs by the pseudo-code's loop structure)."""
     spec = steps(model)[step]
-    loops = models.load(model).get("loops", {})
-    structure = sp.Integer(1)
-    for name in spec.get("within", []):
-        structure *= parse(loops[name]["bound"])
+    structure = _loops(spec, _bounds(model, reading))
     return parse(spec.get("runs", "0")), sp.simplify(structure * parse(spec.get("branch", "1")))
 
 
-def _sum_over_steps(model: str, structural: bool, corrected: bool) -> Form:
+def _sum_over_steps(model: str, structural: bool, corrected: bool, reading: str = "") -> Form:
     """``sum(runs * cost)`` over the steps, with the printed or the structural run counts."""
     total = zero_form()
     for step, spec in steps(model).items():
-        runs = step_runs(model, step)[1 if structural else 0]
+        runs = step_runs(model, step, reading)[1 if structural else 0]
         for kind, c in _step_cost(spec, corrected).items():
             total[kind] += runs * c
     return {k: sp.expand(x) for k, x in total.items()}
+
+
+@cache
+def convention(model: str, reading: str = "") -> Form:
+    """The papers' convention: every condition true, the then-branch charged, loops at their bounds."""
+    bounds = _bounds(model, reading)
+    total = zero_form()
+    for spec in steps(model).values():
+        if all(arm.endswith(":then") for arm in spec.get("under", [])):
+            for kind, c in _step_cost(spec, False).items():
+                total[kind] += _loops(spec, bounds) * c
+    return {k: sp.expand(x) for k, x in total.items()}
+
+
+def _max(a: sp.Expr, b: sp.Expr) -> sp.Expr:
+    """The larger of two nonnegative costs, symbolically where the symbols (all positive) decide it."""
+    if a == 0 or b == 0:
+        return a + b
+    ratio = sp.cancel(a / b)
+    if ratio.is_number:
+        return a if ratio >= 1 else b
+    diff = sp.expand(a - b)
+    coeffs = sp.Poly(diff, *sorted(diff.free_symbols, key=str)).coeffs()
+    if all(c >= 0 for c in coeffs):
+        return a
+    if all(c <= 0 for c in coeffs):
+        return b
+    return sp.Max(a, b)
+
+
+@cache
+def worst_case(model: str, reading: str = "") -> Form:
+    """The tight worst case: loops at their bounds, every conditional at its dearest arm, per kind."""
+    bounds = _bounds(model, reading)
+    charged_steps = []
+    for spec in steps(model).values():
+        form = {k: _loops(spec, bounds) * c for k, c in _step_cost(spec, False).items()}
+        charged_steps.append((tuple(spec.get("under", [])), form))
+
+    def block(prefix: tuple[str, ...]) -> Form:
+        total = zero_form()
+        depth = len(prefix)
+        inner = set()
+        for under, form in charged_steps:
+            if under == prefix:
+                for k, x in form.items():
+                    total[k] += x
+            elif under[:depth] == prefix:
+                inner.add(under[depth].split(":")[0])
+        for cond in sorted(inner):
+            then, other = block(prefix + (f"{cond}:then",)), block(prefix + (f"{cond}:else",))
+            for k in KINDS:
+                total[k] += _max(sp.expand(then[k]), sp.expand(other[k]))
+        return total
+
+    return {k: sp.expand(x) for k, x in block(()).items()}
+
+
+@cache
+def witness(model: str, reading: str = "") -> Form:
+    """An achievable execution: the structural run counts (``branch``) at the paper's evaluation point."""
+    form = _sum_over_steps(model, structural=True, corrected=False, reading=reading)
+    point = evaluation_point(model)
+    return {k: sp.expand(x.subs(point)) for k, x in form.items()}
 
 
 @cache
@@ -125,6 +219,19 @@ def in_n(form: Form, model: str) -> Form:
     """A form with the paper's substitutions and evaluation point applied: a function of n and m."""
     subs = {**substitutions(model), **evaluation_point(model)}
     return {k: sp.expand(x.subs(subs)) for k, x in form.items()}
+
+
+@cache
+def paper_forms(model: str, reading: str = "") -> dict[str, Form]:
+    """The forms that judge a printed sum, in n and m: ``printed`` (last line), ``first`` (first printed
+    line), ``convention``, ``worst`` and ``witness`` (see the module docstring).  Read-only."""
+    return {
+        "printed": printed_final(model),
+        "first": in_n(printed_lines(model)[0].form, model),
+        "convention": in_n(convention(model, reading), model),
+        "worst": in_n(worst_case(model, reading), model),
+        "witness": in_n(witness(model, reading), model),
+    }
 
 
 @dataclass(frozen=True)
@@ -223,67 +330,6 @@ def forms(model: str) -> dict[str, Form]:
         "rederived": in_n(rederive(model), model),
         "corrected": in_n(rederive(model, corrected=True), model),
     }
-
-
-# --- Kernels: the papers' per-line operations, executed on counting arithmetic.
-
-
-def _vec(counter: OpCounter, *vals: float) -> list[Num]:
-    return [Num(x, counter) for x in vals]
-
-
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _kernel_dot(c):
-    _dot(_vec(c, 1, 2, 3), _vec(c, 4, 5, 6))
-
-
-def _kernel_vector_add(c):
-    a, b = _vec(c, 1, 2, 3), _vec(c, 4, 5, 6)
-    [a[i] + b[i] for i in range(3)]
-
-
-def _kernel_ray_point(c):
-    x0, d, t = _vec(c, 1, 2, 3), _vec(c, 4, 5, 6), Num(0.5, c)
-    [x0[i] + t * d[i] for i in range(3)]
-
-
-def _kernel_light_vector(c):
-    light, p0 = _vec(c, 0, 0, 5), _vec(c, 1, 0, 0)
-    [light[i] - p0[i] for i in range(3)]
-
-
-def _kernel_normal(c):
-    p0, p1, p2 = _vec(c, 1, 0, 0), _vec(c, 0, 1, 0), _vec(c, 0, 0, 1)
-    e1 = [p1[i] - p0[i] for i in range(3)]
-    e2 = [p2[i] - p0[i] for i in range(3)]
-    [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
-
-
-def _kernel_visibility(c):
-    from silcount.detectors.base import visibility_true_cost
-    from silcount.mesh.lights import PointLight
-
-    c.update(visibility_true_cost(PointLight((0.0, 0.0, 5.0))))
-
-
-KERNELS = {
-    "dot": (_kernel_dot, "a.b on counting arithmetic"),
-    "vector_add": (_kernel_vector_add, "a+b, three components"),
-    "ray_point": (_kernel_ray_point, "x0 + t d"),
-    "light_vector": (_kernel_light_vector, "L - p0"),
-    "normal_from_corners": (_kernel_normal, "(p1-p0) x (p2-p0)"),
-    "visibility": (_kernel_visibility, "silcount's counted_visibility (point light)"),
-}
-
-
-def kernel_cost(name: str) -> dict[str, int]:
-    """What kernel ``name`` costs, measured by executing it on counting arithmetic."""
-    counter = OpCounter()
-    KERNELS[name][0](counter)
-    return {k: int(x) for k, x in counter.items() if x}
 
 
 def show(form: Form) -> str:

@@ -102,3 +102,38 @@ def analyse() -> Analysis:
         for sol in solve_E_D(formula)
     )
     return Analysis(tuple(readings), sols, _equal(formula, image))
+
+
+def _exact_subs() -> dict:
+    """The E, D that make the formula exact: E = N.C - N.L, D = N.L."""
+    return {E: N.dot(C) - N.dot(L), D: N.dot(L)}
+
+
+def standard_matrix() -> sp.Matrix:
+    """The standard planar shadow matrix for the plane N.X + d = 0 (d = -N.C) and a point light L
+    (Blinn 1988; Moller & Haines, Real-Time Rendering: ``(N.L + d) I - L N^T`` in homogeneous form)."""
+    d = -N.dot(C)
+    m = sp.zeros(4, 4)
+    for i in range(3):
+        for j in range(3):
+            m[i, j] = (N.dot(L) + d if i == j else 0) - L[i] * N[j]
+        m[i, 3] = -L[i] * d
+        m[3, i] = -N[i]
+    m[3, 3] = N.dot(L)
+    return m
+
+
+def printed_is_minus_standard() -> bool:
+    """With the exact E, D, is the printed matrix the standard one times -1?"""
+    diff = shadow_matrix().subs(_exact_subs()) + standard_matrix()
+    return all(sp.expand(x) == 0 for x in diff)
+
+
+def w_of_occluder_point() -> sp.Expr:
+    """The printed matrix's w for a sample occluder point between the light and the plane (exact E, D):
+    light (0, 5, 0), plane y = 0 (N = (0, 1, 0), C = 0), P = (0.3, 2, 0.1)."""
+    h = shadow_matrix().subs(_exact_subs()) * sp.Matrix([*P, 1])
+    sample = {SYM["Lx"]: 0, SYM["Ly"]: 5, SYM["Lz"]: 0, SYM["Nx"]: 0, SYM["Ny"]: 1, SYM["Nz"]: 0}
+    sample |= {SYM["Cx"]: 0, SYM["Cy"]: 0, SYM["Cz"]: 0, SYM["Px"]: sp.Rational(3, 10), SYM["Py"]: 2}
+    sample |= {SYM["Pz"]: sp.Rational(1, 10)}
+    return sp.nsimplify(h[3].subs(sample))

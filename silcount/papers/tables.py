@@ -1,182 +1,168 @@
-"""The papers' operation-count tables: printed beside re-derived beside measured.
+"""The papers' operation-count tables, one pandas DataFrame: printed, closed form, convention, worst case, measured.
 
-EESD paper Sec. 6, Tables 1 and 2 (n=10, m=5; n=100, m=10), and "the same
-tables" for the HSD paper, which prints none: its Figs. 5 and 6 are charts at
-the same points, lost in the PDF conversion, so its *printed* column is its
-printed closed forms evaluated there (``models/hsd2011-paper.toml``).
+EESD paper Sec. 6, Tables 1 and 2 (n=10, m=5; n=100, m=10), and the HSD
+paper's Figs. 5 and 6 at the same points (charts lost in the PDF conversion:
+no printed numbers, so their ``printed`` is empty).  Columns per cell
+(operation kind, algorithm, reading):
 
-Columns per cell (operation kind, per algorithm):
+* ``printed``: the table cell as printed (empty where the paper prints none);
+* ``closed_form``: the paper's own last closed-form line evaluated at the point;
+* ``convention``: the papers' convention, every condition true and the
+  then-branch charged (:func:`silcount.papers.formulas.convention`);
+* ``worst_case``: every conditional at its dearest arm (:func:`~silcount.papers.formulas.worst_case`);
+* ``measured``, ``measured_paper_model``, ``measured_on``: the detector's true
+  tally and its ``paper`` cost model on a named closed mesh near the point
+  (:func:`silcount.papers.growth.table_mesh`).  No closed mesh has the table's
+  n and m (see there): these are evidence of scale, never a verdict;
+* ``typo``: printed differs from the paper's own closed form;
+* ``model``: the closed form differs from its annotations (the convention).
 
-* ``printed``: the table cell (HSD: the printed closed form's value);
-* ``printed_form``: the paper's own last closed-form line at the point;
-* ``rederived``: per-line costs x loop structure (:mod:`silcount.papers.formulas`)
-  at the papers' point (v = 1, s = 0);
-* ``corrected``: the same with corrected per-line costs;
-* ``measured``: the detector's ``paper`` cost model (its steps x the printed
-  per-line costs at the mesh's own e_n, f_n, m) and its ``true`` tally, on
-  the closed mesh nearest the point (:func:`silcount.papers.growth.table_mesh`; no
-  closed mesh matches exactly, see there), fast engine, one fixed light.
+``reading`` names the loop-bound reading (HSD: "decreased by 1"); rows of a
+model with one reading leave it empty.  Every format carries every column.
 """
 
 from __future__ import annotations
 
-import csv
-import io
-from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from silcount.atomic import write_text
 from silcount.counting import paper as models
-from silcount.papers import formulas as F
-from silcount.papers import growth as sweep
-from silcount.papers.claims import PAPER_FILES, _num
 
+if TYPE_CHECKING:
+    import pandas as pd
+
+TABLE_FILES = ("eesd2012-paper", "hsd2011-paper")
 KIND_ORDER = ("mul", "add", "cmp", "read", "write")
 KIND_LABEL = {"mul": "Multiple", "add": "Add", "cmp": "Compare", "read": "Read", "write": "Write"}
 FORMATS = ("md", "csv", "tex")
-
-
-@dataclass(frozen=True)
-class Cell:
-    table: str
-    algorithm: str
-    label: str
-    operation: str
-    printed: str
-    printed_is_cell: bool
-    printed_form: str
-    rederived: str
-    corrected: str
-    measured: str
-    measured_true: str
-    mesh: str
-
-    @property
-    def agrees(self) -> bool:
-        return self.printed == self.rederived
-
-
-@cache
-def _measured(detector: str, n: int, m: float) -> sweep.Run:
-    return sweep.run(detector, sweep.table_mesh(n, m))
+COLUMNS = (
+    "table",
+    "paper",
+    "where",
+    "n",
+    "m",
+    "algorithm",
+    "reading",
+    "operation",
+    "printed",
+    "closed_form",
+    "convention",
+    "worst_case",
+    "measured",
+    "measured_paper_model",
+    "measured_on",
+    "typo",
+    "model",
+)
 
 
 @cache
-def cells() -> tuple[Cell, ...]:
-    """Every cell of every table, in the papers' order."""
+def _measured(detector: str, n: int, m: float):
+    from silcount.papers import growth
+
+    return growth.run(detector, growth.table_mesh(n, m))
+
+
+def _int(x) -> int:
+    import sympy as sp
+
+    value = sp.nsimplify(x)
+    if not value.is_Integer:
+        raise ValueError(f"a table value is not an integer: {value}")
+    return int(value)
+
+
+@cache
+def _rows() -> tuple[dict, ...]:
+    from silcount.papers import formulas as F
+
     out = []
-    for paper_file in PAPER_FILES:
-        for table in models.load(paper_file).get("tables", []):
+    for paper_file in TABLE_FILES:
+        data = models.load(paper_file)
+        for table in data.get("tables", []):
             point = table["point"]
             for row in table["rows"]:
-                forms = F.forms(row["model"])
-                values = {which: F.evaluate(forms[which], **point) for which in forms}
                 run = _measured(row["algorithm"], point["n"], point["m"])
-                for kind in KIND_ORDER:
-                    printed_form = _num(values["printed"][kind])
-                    has_cell = "cells" in row
-                    ok = not run.error
-                    out.append(
-                        Cell(
-                            table=table["id"],
-                            algorithm=row["algorithm"],
-                            label=row["label"],
-                            operation=kind,
-                            printed=str(row["cells"][kind]) if has_cell else printed_form,
-                            printed_is_cell=has_cell,
-                            printed_form=printed_form,
-                            rederived=_num(values["rederived"][kind]),
-                            corrected=_num(values["corrected"][kind]),
-                            measured=str(run.tally["paper"][kind]) if ok else "",
-                            measured_true=str(run.tally["true"][kind]) if ok else "",
-                            mesh=(
-                                f"{run.mesh} (F={run.faces}, m={run.mean_sides:.2f}, E={run.edges}; {run.variant})"
-                                if ok
-                                else ("detector not available" if run is None else run.error)
-                            ),
+                where = f"Sec. {table['section']}" + (f", lines {row['lines']}" if "lines" in row else "")
+                for reading in F.readings(row["model"]):
+                    pf = F.paper_forms(row["model"], reading)
+                    values = {which: F.evaluate(pf[which], **point) for which in ("printed", "convention", "worst")}
+                    for kind in KIND_ORDER:
+                        printed = row["cells"][kind] if "cells" in row else None
+                        closed = _int(values["printed"][kind])
+                        conv = _int(values["convention"][kind])
+                        out.append(
+                            {
+                                "table": table["id"],
+                                "paper": data["source_file"],
+                                "where": where,
+                                "n": point["n"],
+                                "m": point["m"],
+                                "algorithm": row["label"],
+                                "reading": reading,
+                                "operation": KIND_LABEL[kind],
+                                "printed": printed,
+                                "closed_form": closed,
+                                "convention": conv,
+                                "worst_case": _int(values["worst"][kind]),
+                                "measured": run.tally["true"][kind],
+                                "measured_paper_model": run.tally["paper"][kind],
+                                "measured_on": f"{run.mesh} (F={run.faces}, E={run.edges}, m={run.mean_sides:.2f}; "
+                                f"{run.detector} {run.variant}, fast engine, one point light)",
+                                "typo": printed is not None and printed != closed,
+                                "model": closed != conv,
+                            }
                         )
-                    )
     return tuple(out)
 
 
-def _tables() -> list[tuple[dict, list[Cell]]]:
-    out = []
-    for paper_file in PAPER_FILES:
-        for table in models.load(paper_file).get("tables", []):
-            out.append((table, [c for c in cells() if c.table == table["id"]]))
+def tables_frame() -> "pd.DataFrame":
+    """Every cell of every table (and every reading), in the papers' order, with the columns of :data:`COLUMNS`."""
+    import pandas as pd
+
+    df = pd.DataFrame(list(_rows()), columns=list(COLUMNS))
+    df["printed"] = df["printed"].astype("Int64")
+    return df
+
+
+def _text_frame(df: "pd.DataFrame") -> "pd.DataFrame":
+    out = df.astype(object).where(df.notna(), "-")
+    for col in ("typo", "model"):
+        out[col] = df[col].map({True: "yes", False: "no"})
     return out
 
 
-def render_csv() -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["table", "algorithm", "operation", "printed", "rederived", "measured", "agrees"])
-    for c in cells():
-        w.writerow([c.table, c.algorithm, c.operation, c.printed, c.rederived, c.measured, "yes" if c.agrees else "no"])
-    return buf.getvalue()
+def render_csv(df: "pd.DataFrame | None" = None) -> str:
+    df = tables_frame() if df is None else df
+    return df.to_csv(index=False, lineterminator="\n", na_rep="")
 
 
-def render_md() -> str:
+def render_md(df: "pd.DataFrame | None" = None) -> str:
+    df = tables_frame() if df is None else df
+    text = _text_frame(df)
     lines = [
-        "# The papers' operation-count tables: printed, re-derived, measured",
+        "# The papers' operation-count tables",
         "",
-        "Generated by `silcount tables`; see `silcount/tables.py` for every column. "
-        "**Bold** printed values differ from the re-derivation (per-line costs x loop structure, "
-        "at v = 1, s = 0). Measured values are on the closed mesh nearest the point (no closed mesh matches it).",
+        "Generated by `silcount tables` (`silcount.papers.tables`). Per cell: *printed* (empty: the paper prints no "
+        "number), the paper's own *closed form* evaluated, the papers' *convention* (every condition true, the "
+        "then-branch charged), the tight *worst case* (every conditional at its dearest arm), and *measured* counts "
+        "on the named closed mesh (never at the table's n and m: no closed mesh has them). Flags: *typo* = printed "
+        "differs from the closed form; *model* = the closed form differs from its annotations (the convention).",
         "",
     ]
-    for table, rows in _tables():
-        lines += [
-            f"## {table['id']}: {table['caption']}",
-            "",
-            f"Source: {models.load(PAPER_FILES[0] if table['id'].startswith('EESD') else PAPER_FILES[1])['source_file']}, "
-            f"Sec. {table['section']}. Point: n = {table['point']['n']}, m = {table['point']['m']}.",
-            "",
-        ]
-        if not rows[0].printed_is_cell:
-            lines += [
-                "The paper prints no numbers here (a chart lost in the conversion): *printed* is its closed form evaluated.",
-                "",
-            ]
-        lines += [
-            "| algorithm | operation | printed | printed form | re-derived | corrected | measured (paper model) | measured (true) | agrees |",
-            "|---|---|---:|---:|---:|---:|---:|---:|---|",
-        ]
-        for c in rows:
-            printed = c.printed if c.agrees else f"**{c.printed}**"
-            lines.append(
-                f"| {c.label} | {KIND_LABEL[c.operation]} | {printed} | {c.printed_form} | {c.rederived} | "
-                f"{c.corrected} | {c.measured or '-'} | {c.measured_true or '-'} | {'yes' if c.agrees else 'no'} |"
-            )
-        lines += [""] + [
-            f"- measured {label}: {mesh}" for label, mesh in dict.fromkeys((c.label, c.mesh) for c in rows)
-        ]
-        lines.append("")
+    for table in dict.fromkeys(df["table"]):
+        part = text[df["table"] == table]
+        lines += [f"## {table}", "", part.to_markdown(index=False, disable_numparse=True), ""]
     return "\n".join(lines)
 
 
-def render_tex() -> str:
-    lines = [
-        "% Generated by `silcount tables --format tex`.",
-        "% Each cell: printed / re-derived / measured (paper cost model).",
-    ]
-    for table, rows in _tables():
-        lines += [
-            r"\begin{table}[ht]",
-            r"\centering",
-            rf"\caption{{{table['id']}: {table['caption']}; printed / re-derived / measured}}",
-            r"\begin{tabular}{l" + "r" * len(KIND_ORDER) + "}",
-            r"\hline",
-            "Algorithm & " + " & ".join(KIND_LABEL[k] for k in KIND_ORDER) + r" \\",
-            r"\hline",
-        ]
-        for label in dict.fromkeys(c.label for c in rows):
-            row = {c.operation: c for c in rows if c.label == label}
-            vals = [f"{row[k].printed} / {row[k].rederived} / {row[k].measured or '--'}" for k in KIND_ORDER]
-            lines.append(f"{label} & " + " & ".join(vals) + r" \\")
-        lines += [r"\hline", r"\end{tabular}", r"\end{table}", ""]
-    return "\n".join(lines)
+def render_tex(df: "pd.DataFrame | None" = None) -> str:
+    df = tables_frame() if df is None else df
+    styler = _text_frame(df).style.hide(axis="index").format(escape="latex")
+    body = styler.to_latex(hrules=True, column_format="l" * len(df.columns))
+    return "% Generated by `silcount tables --format tex` (silcount.papers.tables): every column, every cell.\n" + body
 
 
 RENDER = {"md": render_md, "csv": render_csv, "tex": render_tex}
@@ -192,11 +178,8 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def write_all(out_dir: Path) -> list[Path]:
-    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` into ``out_dir``."""
+    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` into ``out_dir``, all from one frame."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for fmt in FORMATS:
-        path = out_dir / f"tables.{fmt}"
-        paths.append(write_text(path, render(fmt)))
-    return paths
+    df = tables_frame()
+    return [write_text(out_dir / f"tables.{fmt}", RENDER[fmt](df)) for fmt in FORMATS]

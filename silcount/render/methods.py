@@ -4,7 +4,9 @@ Returns the mask, the coverage, what the shaded picture needs and the
 messages a user must see (open casters; the eye inside a shadow volume with
 z-pass, where the count is wrong by the number of volumes holding the eye).
 For ``planar`` the variant selects the shadow matrix (:mod:`.planar`); for
-the stencil methods it is passed to the detector.
+the stencil methods it is passed to the detector, and ``shadow_test`` and
+``volume`` select the literal forms of the stencil paper's steps
+(:func:`.stencil.shadow_from_stencil`, :mod:`.volumes`).
 """
 
 from __future__ import annotations
@@ -33,7 +35,14 @@ class Rendered:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def render_method(scene: Scene, method: str, detector: str = "reference", variant: str = "intended") -> Rendered:
+def render_method(
+    scene: Scene,
+    method: str,
+    detector: str = "reference",
+    variant: str = "intended",
+    shadow_test: str = "nonzero",
+    volume: str = "infinite",
+) -> Rendered:
     if method not in METHODS:
         raise BadArgument(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
     camera = Camera.of(scene)
@@ -44,7 +53,7 @@ def render_method(scene: Scene, method: str, detector: str = "reference", varian
         sd = depth_pass(scene, camera)
         mask, _ = planar_mask(scene, variant, depth=sd)
         return Rendered(mask, sd.coverage, sd.tri_id, camera.eye_depth_from_ndc_z(sd.depth))
-    res = render_stencil(scene, method, detector, variant)
+    res = render_stencil(scene, method, detector, variant, shadow_test=shadow_test, volume=volume)
     messages = list(res.warnings)
     if res.eye_in_shadow:
         if method == "zpass":

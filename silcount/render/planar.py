@@ -32,26 +32,12 @@ from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.receiver import floor_plane
 from silcount.render.scene import Scene
 from silcount.render.stencil import SceneDepth, depth_pass
 
 VARIANTS = ("intended", "literal")
-
-
-def floor_plane(scene: Scene) -> tuple[int, np.ndarray, float]:
-    """(object index, unit normal N, offset D) of the floor: ``N . X = D``."""
-    for k, o in enumerate(scene.objects):
-        if o.casts_shadow:
-            continue
-        v = o.mesh.vertices
-        n = o.mesh.face_normals.sum(axis=0)
-        if np.linalg.norm(n) == 0:
-            continue
-        n = n / np.linalg.norm(n)
-        d = float(n @ v[0])
-        if np.allclose(v @ n, d, atol=1e-9 * max(1.0, float(np.abs(v).max()))):
-            return k, n, d
-    raise BadArgument(f"{scene.path}: planar shadows need a flat non-casting receiver (a floor); none found")
+__all__ = ["VARIANTS", "floor_plane", "planar_mask", "shadow_matrix"]
 
 
 def shadow_matrix(normal: np.ndarray, offset: float, light: Light, variant: str = "intended") -> np.ndarray:
@@ -92,7 +78,7 @@ def planar_mask(
     M = shadow_matrix(N, D, scene.light, variant)
     projected = homogeneous(np.concatenate(casters)) @ M.T
     clip = to_clip(projected, camera.view_projection)
-    depth, stencil, tri_id = new_buffers(camera.width, camera.height)
-    depth[:] = np.inf
-    rasterize(clip, np.zeros(len(clip), dtype=np.int64), DEPTH, depth, stencil, tri_id)
+    z, stencil, tri_id = new_buffers(camera.width, camera.height)
+    z[:] = np.inf
+    rasterize(clip, np.zeros(len(clip), dtype=np.int64), DEPTH, z, stencil, tri_id)
     return floor & (tri_id >= 0), floor

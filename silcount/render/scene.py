@@ -117,7 +117,9 @@ def _object(spec: dict, base: Path, path: Path) -> SceneObject:
     if not mesh.is_triangle_mesh:
         raise UnreadableInput(f"{path}: object {name!r}: scene meshes must be triangle meshes")
     scale = spec.get("scale", 1.0)
-    s = np.full(3, float(scale)) if np.isscalar(scale) else _vec(scale, f"object {name!r} scale", path)
+    s = np.full(3, float(scale)) if isinstance(scale, (int, float)) else _vec(scale, f"object {name!r} scale", path)
+    if not np.all(np.isfinite(s)):
+        raise UnreadableInput(f"{path}: object {name!r} scale must be finite, got {scale!r}")
     R = rotation_xyz(_vec(spec.get("rotate_deg", [0, 0, 0]), f"object {name!r} rotate_deg", path))
     t = _vec(spec.get("translate", [0, 0, 0]), f"object {name!r} translate", path)
     world = (mesh.vertices * s) @ R.T + t

@@ -7,10 +7,12 @@ Steps, as the stencil paper lists them (Sec. 5, steps (1)-(8)):
 4-5. z-pass: front-facing volume polygons increment, back-facing decrement,
    where the depth test passes.  z-fail (the paper's second (4)-(5)):
    back-facing increment, front-facing decrement, where it fails;
-6-8. a pixel is in shadow where the stencil is not zero ("if the number of
-   stencil buffer is not zero it is therefore in the shadow").  We read the
-   printed step (8) ``If (~Stencil % 2)`` as that test: a parity test would
-   light the overlap of two volumes.
+6-8. the final test.  The text says "if the number of stencil buffer is not
+   zero it is therefore in the shadow": ``nonzero`` (the default, and what
+   ray casting agrees with).  The printed step (8) is ``If (~Stencil % 2)``
+   followed by "Keep Stencil"; ``parity`` is that printed form, literally
+   (:func:`shadow_from_stencil` gives the readings).  They differ wherever two
+   volumes overlap (stencil 2): parity lights the overlap of two shadows.
 
 The paper's z-fail omits what makes it correct; we add Everitt & Kilgard's
 robust form: the volume is capped (light cap = the lit faces, dark cap = the
@@ -31,13 +33,44 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from silcount.detectors import detect
+from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.receiver import floor_plane
 from silcount.render.scene import Scene
 from silcount.render.volumes import Volume, build_volume
 
 METHODS = ("zpass", "zfail")
+SHADOW_TESTS = ("nonzero", "parity")
+VOLUMES = ("infinite", "truncated")
+
+
+def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarray:
+    """In shadow, per pixel, from the stencil count (stencil paper Sec. 5, step (8)).
+
+    ``nonzero``: ``stencil != 0``, the paper's own words ("not zero ... in the shadow").
+
+    ``parity``: the printed ``If (~Stencil % 2)``.  In C, unary ``~`` binds tighter than ``%``, so it is
+    ``(~Stencil) % 2``.  In two's complement ``~s = -s - 1``; C99 ``%`` truncates towards zero, so
+    ``(-s - 1) % 2`` is ``0`` for odd ``s`` and ``-1`` (true) for even ``s``.  With an unsigned stencil
+    (``~s = UINT_MAX - s``, ``UINT_MAX`` odd) it is ``1`` for even ``s``, ``0`` for odd: the same, and an
+    8-bit stencil that wraps (256 is even) keeps the parity.  So the condition holds exactly where the
+    stencil is **even**, zero included.  Step (8) follows steps (6)-(7), "render the all scene again with
+    lighting" and "enable to write in color buffer": the condition says where the lit pass draws, so the
+    pixel is lit where the stencil is even and in shadow where it is odd, ``stencil & 1``.
+
+    Other readings, not implemented: ``~`` as the logical NOT of the paper's own ``Iff(~P_i, ...)`` and
+    ``~Z_test`` gives ``(!Stencil) % 2 = !Stencil``, true iff the stencil is zero: lit where zero, which is
+    ``nonzero``.  ``~(Stencil % 2)`` (against C precedence) is false only for negative odd stencils, which
+    a closed volume never leaves; ``!(Stencil % 2)`` is ``parity`` again.  Taking the condition as "in
+    shadow" rather than "lit" would shade every lit pixel (stencil 0 is even), so it is not a reading.
+    """
+    if test == "nonzero":
+        return stencil != 0
+    if test == "parity":
+        return (stencil & 1) != 0
+    raise BadArgument(f"unknown shadow test {test!r}; choose from {', '.join(SHADOW_TESTS)}")
 
 
 @dataclass
@@ -128,10 +161,24 @@ def render_stencil(
     detector: str = "reference",
     variant: str = "intended",
     depth: SceneDepth | None = None,
+    shadow_test: str = "nonzero",
+    volume: str = "infinite",
 ) -> StencilResult:
-    """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera."""
+    """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera.
+
+    ``shadow_test``: :func:`shadow_from_stencil`.  ``volume``: ``infinite`` (extruded to infinity) or
+    ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`).
+    """
     if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}")
+        raise BadArgument(f"unknown stencil method {method!r}; choose from {', '.join(METHODS)}")
+    if shadow_test not in SHADOW_TESTS:
+        raise BadArgument(f"unknown shadow test {shadow_test!r}; choose from {', '.join(SHADOW_TESTS)}")
+    if volume not in VOLUMES:
+        raise BadArgument(f"unknown volume {volume!r}; choose from {', '.join(VOLUMES)}")
+    receiver: tuple[np.ndarray, float] | None = None
+    if volume == "truncated":
+        _, normal, offset = floor_plane(scene)
+        receiver = (normal, offset)
     camera = Camera.of(scene)
     timings = {"silhouette": 0.0, "volume": 0.0, "raster": 0.0}
     t0 = time.perf_counter()
@@ -147,7 +194,7 @@ def render_stencil(
         t0 = time.perf_counter()
         sil = detect(obj.mesh, scene.light, detector, variant=variant, engine="fast")
         t1 = time.perf_counter()
-        vol = build_volume(obj.mesh, scene.light, silhouette=sil)
+        vol = build_volume(obj.mesh, scene.light, silhouette=sil, receiver=receiver)
         parts = [to_clip(vol.sides, camera.view_projection)]
         if method == "zfail":
             parts.append(sd.clip[offsets[k] : offsets[k + 1]][vol.lit_faces])
@@ -160,7 +207,7 @@ def render_stencil(
         timings["volume"] += t2 - t1
         timings["raster"] += t3 - t2
         volumes.append(vol)
-    mask = sd.coverage & (stencil != 0)
+    mask = sd.coverage & shadow_from_stencil(stencil, shadow_test)
     return StencilResult(
         mask, sd.coverage, stencil, sd, volumes, timings, eye_in_shadow(scene), open_caster_warnings(scene)
     )

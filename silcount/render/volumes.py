@@ -13,6 +13,21 @@ Sec. 3-4).  The paper clips each quad "between occluder and receiver"
 an infinite far plane needs no receiver and no clipping and is what makes
 z-fail robust.
 
+``truncated`` volumes (``receiver`` given) are the stencil paper's speed-up
+(Sec. 5: "we will clip each infinite quadrilateral to the finite
+quadrilateral between occluder and shadow receiver"): each far vertex is the
+"new pixel" ``L + E (F - L) / (NF - D)``, the point where the ray from the
+light through the silhouette vertex ``F`` meets the receiver plane
+``N . X = N . C``.  We implement that geometric step, ``F`` moved along
+``F - L`` to the plane (:func:`to_receiver`), which is the printed formula
+under its one exact reading ``E = N.C - N.L``, ``D = N.L``; whether the
+printed E and D admit that reading is decided symbolically by
+:mod:`silcount.papers.projection`, not here.  The dark cap (z-fail) is the
+unlit faces moved to the plane the same way.  The truncated volume is exact
+for receivers on the light's side of the plane and loses every shadow beyond
+it (a lower floor, a wall below the plane's level): a receiver that is not
+the clipping plane.
+
 Light-facing is the detectors' rule (:func:`silcount.detectors.reference.facing_flags`,
 ``(L - p0) . n > 0``).  For a directional light every far vertex is the one
 point ``(-d, 0)``: the sides are triangles and the dark cap vanishes.
@@ -51,17 +66,53 @@ def to_infinity(points: np.ndarray, light: Light) -> np.ndarray:
     return out
 
 
-def side_triangles(mesh: Mesh, oriented: np.ndarray, light: Light) -> np.ndarray:
-    """(S, 3, 4) side quads ``(b, a, a_inf, b_inf)`` of the oriented silhouette edges ``(a, b)``, as triangles."""
+def to_receiver(points: np.ndarray, light: Light, normal: np.ndarray, offset: float) -> np.ndarray:
+    """(..., 3) points -> (..., 4) the stencil paper's "new pixel" (Sec. 5): each point moved away from the
+    light onto the plane ``normal . X = offset``, ``w = 1``.
+
+    Point light: ``L + alpha (F - L)``, ``alpha = (D - N.L) / (N.F - N.L)``; directional light (towards-light
+    direction ``d``): ``F - t d``, ``t = (N.F - D) / (N.d)``.  Where the ray from the light through ``F``
+    does not meet the plane at or beyond ``F`` (``alpha < 1``, ``t < 0``, or parallel), there is no
+    receiver to stop at and the vertex stays at infinity (``w = 0``, as :func:`to_infinity`).
+    """
+    N, D = np.asarray(normal, dtype=np.float64), float(offset)
+    out = to_infinity(points, light)
+    NF = points @ N
+    if isinstance(light, DirectionalLight):
+        d = np.asarray(light.direction, dtype=np.float64)
+        nd = float(N @ d)
+        t = (NF - D) / nd if nd != 0 else np.full(NF.shape, -1.0)
+        ok = t >= 0
+        moved = points - t[..., None] * d
+    else:
+        L = np.asarray(light.position, dtype=np.float64)
+        NL = float(N @ L)
+        den = NF - NL
+        with np.errstate(divide="ignore", invalid="ignore"):
+            alpha = np.where(den != 0, (D - NL) / np.where(den != 0, den, 1.0), -1.0)
+        ok = alpha >= 1
+        moved = L + alpha[..., None] * (points - L)
+    out[ok, :3] = moved[ok]
+    out[ok, 3] = 1.0
+    return out
+
+
+def side_triangles(mesh: Mesh, oriented: np.ndarray, light: Light, far: np.ndarray | None = None) -> np.ndarray:
+    """(S, 3, 4) side quads ``(b, a, a_far, b_far)`` of the oriented silhouette edges ``(a, b)``, as triangles.
+
+    ``far``: (V, 4) far vertex of every mesh vertex (:func:`to_receiver`); default at infinity.
+    """
     a = mesh.vertices[oriented[:, 0]]
     b = mesh.vertices[oriented[:, 1]]
     ah = np.concatenate([a, np.ones((len(a), 1))], axis=1)
     bh = np.concatenate([b, np.ones((len(b), 1))], axis=1)
-    ai, bi = to_infinity(a, light), to_infinity(b, light)
-    first = np.stack([bh, ah, ai], axis=1)
-    if isinstance(light, DirectionalLight):
-        return first
-    return np.concatenate([first, np.stack([bh, ai, bi], axis=1)], axis=0)
+    if far is None:
+        ai, bi = to_infinity(a, light), to_infinity(b, light)
+        if isinstance(light, DirectionalLight):
+            return np.stack([bh, ah, ai], axis=1)  # every far vertex is the one point (-d, 0)
+    else:
+        ai, bi = far[oriented[:, 0]], far[oriented[:, 1]]
+    return np.concatenate([np.stack([bh, ah, ai], axis=1), np.stack([bh, ai, bi], axis=1)], axis=0)
 
 
 def build_volume(
@@ -70,10 +121,18 @@ def build_volume(
     detector: str = "reference",
     variant: str = "intended",
     silhouette: Silhouette | None = None,
+    receiver: tuple[np.ndarray, float] | None = None,
 ) -> Volume:
-    """Run ``detector`` (engine ``fast``) and build the caster's volume; pass ``silhouette`` to reuse one."""
+    """Run ``detector`` (engine ``fast``) and build the caster's volume; pass ``silhouette`` to reuse one.
+
+    ``receiver`` = ``(N, D)``: the truncated volume, its far vertices on the plane ``N . X = D``
+    (:func:`to_receiver`); None: the infinite volume.
+    """
     sil = silhouette if silhouette is not None else detect(mesh, light, detector, variant=variant, engine="fast")
     lit, _ = facing_flags(mesh, light)  # the detectors' own facing test: caps agree with the sides
+    if receiver is not None:
+        far = to_receiver(mesh.vertices, light, *receiver)
+        return Volume(sil, side_triangles(mesh, sil.oriented, light, far), lit, far[mesh.faces[~lit]])
     if isinstance(light, DirectionalLight):
         dark = np.zeros((0, 3, 4))
     else:

@@ -1,0 +1,110 @@
+"""Every checkable statement of the three papers, located, quoted and judged.
+
+Families (one module each): :mod:`.derivations` (every ``=`` of every printed
+derivation), :mod:`.cells` (every printed table cell), :mod:`.comparisons`
+(pairs per table point, orderings, ratios), :mod:`.fps` (frame rates),
+:mod:`.inventory` (primitives, the mesh model, complexity), :mod:`.algorithms`
+(the algorithms and stencil steps as written, the projection),
+:mod:`.citations` (dates and attributions).  The prose claims are data in
+``models/<paper>-claims.toml``; their ``check`` names the rule.  The verdict
+rules are in ``docs/claims.md``.  Importing this package is cheap: sympy,
+pandas and the detectors load on the first call.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from silcount.papers.claims.base import AMBIGUOUS, CLAIM_FILES, FAILS, HOLDS, VERDICTS, Claim, Reading
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from silcount.counting.cycles import Profile
+    from silcount.papers.claims.context import Evidence
+
+
+def default_evidence(real: bool = False) -> "Evidence":
+    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`) and the render
+    experiments' pixel mismatches of the literal stencil steps
+    (:func:`silcount.render.experiments.stencil_step_evidence`)."""
+    from silcount.papers import growth
+    from silcount.papers.claims.context import Evidence
+    from silcount.render.experiments import stencil_step_evidence
+
+    return Evidence(exponents=growth.icosphere_evidence(), stencil=stencil_step_evidence(), real=real)
+
+
+def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
+    """Every claim, numbered, in a fixed order: derivations, table cells, then each paper's claims file."""
+    from silcount.counting import paper as models
+    from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, fps, inventory
+
+    ev = default_evidence() if evidence is None else evidence
+    with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
+        **inventory.RULES,
+        **algorithms.RULES,
+        **citations.RULES,
+    }
+    plain: dict[str, Callable[[dict, str], Claim]] = {**comparisons.RULES, **fps.RULES}
+    multi: dict[str, Callable[[dict, str], list[Claim]]] = {**comparisons.MULTI, **fps.MULTI}
+    out = derivations.derivation_claims() + cells.cell_claims()
+    for name in CLAIM_FILES:
+        data = models.load(name)
+        for c in data.get("claims", []):
+            check, source = c["check"], data["source_file"]
+            if check in multi:
+                out += multi[check](c, source)
+            elif check in plain:
+                out.append(plain[check](c, source))
+            else:
+                out.append(with_evidence[check](c, source, ev))
+    for i, claim in enumerate(out, start=1):
+        claim.id = i
+    return out
+
+
+def claims_frame(evidence: "Evidence | None" = None) -> "pd.DataFrame":
+    """Every claim as a pandas DataFrame with the report's columns (``readings`` as a list of dicts)."""
+    from silcount.papers.claims.rendering import frame
+
+    return frame(all_claims(evidence))
+
+
+def findings_markdown(evidence: "Evidence | None" = None) -> str:
+    """The README's findings table, generated from the claims: verdict counts per paper and every FAILS."""
+    from silcount.papers.claims.rendering import findings
+
+    return findings(all_claims(evidence))
+
+
+def render(fmt: str, extra_profile: "Profile | None" = None) -> str:
+    """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings)."""
+    from silcount.papers.claims.rendering import RENDER
+
+    return RENDER[fmt](all_claims(), extra_profile)
+
+
+def report(out_dir):
+    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}``."""
+    from pathlib import Path
+
+    from silcount.papers.claims.rendering import write_all
+
+    return write_all(all_claims(), Path(out_dir) / "claims")
+
+
+__all__ = [
+    "AMBIGUOUS",
+    "FAILS",
+    "HOLDS",
+    "VERDICTS",
+    "Claim",
+    "Reading",
+    "all_claims",
+    "claims_frame",
+    "findings_markdown",
+    "render",
+    "report",
+]

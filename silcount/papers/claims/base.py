@@ -1,0 +1,143 @@
+"""The claim record, the three verdicts, and the helpers every rule family shares.
+
+Verdict rules (``docs/claims.md``): HOLDS = true under the paper's own
+conventions; FAILS = false under the paper's own definitions, or under every
+reasonable reading; AMBIGUOUS = reasonable readings disagree and the paper
+gives no way to decide (the claim then lists each reading and its outcome).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cache
+
+from silcount.counting import paper as models
+
+HOLDS, FAILS, AMBIGUOUS = "HOLDS", "FAILS", "AMBIGUOUS"
+VERDICTS = (HOLDS, FAILS, AMBIGUOUS)
+CLAIM_FILES = ("eesd2012-claims", "hsd2011-claims", "stencil2011-claims")
+PAPER_FILE = {
+    "eesd2012": "eesd-2012-extended-edge-silhouette-detection.txt",
+    "hsd2011": "hsd-2011-hybrid-silhouette-detection.txt",
+    "stencil2011": "stencil-zbuffer-2011-real-time-shadow.txt",
+}
+PAPER_LABEL = {v: k for k, v in PAPER_FILE.items()}
+LABEL = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
+
+
+@dataclass
+class Reading:
+    """One reading of an ambiguous statement and what it gives."""
+
+    reading: str
+    holds: bool
+    outcome: str
+
+    def as_json(self) -> dict:
+        return {"reading": self.reading, "holds": self.holds, "outcome": self.outcome}
+
+
+@dataclass
+class Claim:
+    """One checkable statement of a paper, located, quoted and judged."""
+
+    key: str
+    family: str
+    paper: str  # file name in the papers directory
+    section: str
+    lines: str  # "a-b", 1-based inclusive
+    quote: str
+    statement: str
+    printed: str
+    rederived: str
+    measured: str | None
+    verdict: str
+    reason: str
+    readings: list[Reading] = field(default_factory=list)
+    id: int = 0
+
+    @property
+    def where(self) -> str:
+        return f"Sec. {self.section}, lines {self.lines}"
+
+    def as_json(self) -> dict:
+        return {
+            "id": self.id,
+            "key": self.key,
+            "family": self.family,
+            "paper": self.paper,
+            "where": self.where,
+            "section": self.section,
+            "lines": self.lines,
+            "quote": self.quote,
+            "statement": self.statement,
+            "readings": [r.as_json() for r in self.readings],
+            "printed": self.printed,
+            "rederived": self.rederived,
+            "measured": self.measured,
+            "verdict": self.verdict,
+            "reason": self.reason,
+        }
+
+
+def from_readings(readings: list[Reading]) -> str:
+    """HOLDS when every reading holds, FAILS when none does, AMBIGUOUS otherwise."""
+    held = {r.holds for r in readings}
+    return HOLDS if held == {True} else FAILS if held == {False} else AMBIGUOUS
+
+
+def show_readings(readings: list[Reading]) -> str:
+    return "; ".join(f"{r.reading}: {'holds' if r.holds else 'fails'} ({r.outcome})" for r in readings)
+
+
+def num(x) -> str:
+    import sympy as sp
+
+    x = sp.nsimplify(x)
+    if x.is_Integer:
+        return str(int(x))
+    return f"{float(x):.4g}"
+
+
+def algo(model: str) -> str:
+    return LABEL[models.load(model)["algorithm"]]
+
+
+def source_of(model_or_paper: str) -> str:
+    return models.load(model_or_paper)["source_file"]
+
+
+@cache
+def cycles(model: str, which: str, weights: tuple, reading: str = ""):
+    """Cycle total (sympy, in n and m) of one of a model's paper forms under ``weights`` (sorted items)."""
+    from silcount.papers import formulas as F
+
+    return F.weighted(F.paper_forms(model, reading)[which], dict(weights))
+
+
+def paper_weights() -> tuple:
+    from silcount.counting.arithmetic import KINDS
+
+    w = models.load("eesd2012-paper")["cycle_weights"]
+    return tuple(sorted((k, float(w[k])) for k in KINDS))
+
+
+def unit_weights() -> tuple:
+    from silcount.counting.arithmetic import KINDS
+
+    return tuple(sorted((k, 1.0) for k in KINDS))
+
+
+def claim_from_data(c: dict, source: str, family: str, **judged) -> Claim:
+    """A claim whose location, quote, statement and printed value come from a ``[[claims]]`` entry."""
+    return Claim(
+        key=c["id"],
+        family=family,
+        paper=c.get("paper", source),
+        section=c["section"],
+        lines=c["lines"],
+        quote=c["quote"],
+        statement=c["statement"],
+        printed=c["printed"],
+        **judged,
+    )

@@ -1,0 +1,229 @@
+"""Comparisons between algorithms: per pair and table point, the asymptotic orderings, cycle ratios, equal counts.
+
+Judged on the papers'-convention re-derivation (:func:`silcount.papers.formulas.convention`)
+with the paper's cycle weights (EESD paper Sec. 6: Mult 4, Add 2, Compare 3,
+Read 1, Write 2) and, as separate claims, as raw operation counts; the
+printed closed forms are reported beside.  Where the outcome depends on m,
+the threshold is given.  Every model reading (HSD's side loop) is a reading
+of the claim.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import sympy as sp
+
+from silcount.papers import formulas as F
+from silcount.papers.claims.base import (
+    Claim,
+    Reading,
+    algo,
+    claim_from_data,
+    cycles,
+    from_readings,
+    num,
+    paper_weights,
+    show_readings,
+    unit_weights,
+)
+
+SCALES = {"cycles": ("paper cycle weights", paper_weights), "raw": ("raw operation counts", unit_weights)}
+
+
+def _pairs_of_readings(*model_list: str):
+    for combo in itertools.product(*(F.readings(mdl) for mdl in model_list)):
+        name = ", ".join(r for r in combo if r) or ""
+        yield name, combo
+
+
+def _value(model: str, reading: str, weights: tuple, point: dict, which: str = "convention"):
+    return sp.nsimplify(cycles(model, which, weights, reading).subs({F.n: point["n"], F.m: point["m"]}))
+
+
+def _threshold(diff: sp.Expr, var: sp.Symbol, what: str) -> str:
+    """Where ``diff < 0`` (the winner cheaper), as an inequality in ``var``."""
+    diff = sp.expand(diff)
+    if not diff.has(var):
+        return f"for every {var}" if diff < 0 else f"for no {var}"
+    roots = [r for r in sp.solve(sp.Eq(diff, 0), var) if r.is_real and r > 0]
+    if not roots:
+        return f"for every {var} > 0" if diff.subs(var, 1) < 0 else f"for no {var} > 0"
+    r = roots[0]
+    below = diff.subs(var, r / 2) < 0
+    return f"{what} for {var} {'<' if below else '>'} {float(r):.4g}"
+
+
+def pairwise(c: dict, source: str) -> list[Claim]:
+    """``winner`` cheaper than ``other`` at each of ``points``, with cycle weights and as raw counts."""
+    winner, other = c["winner"], c["other"]
+    out = []
+    for point, (scale, (label, weights_of)) in itertools.product(c["points"], SCALES.items()):
+        w = weights_of()
+        readings = []
+        for name, (rw, ro) in _pairs_of_readings(winner, other):
+            a, b = _value(winner, rw, w, point), _value(other, ro, w, point)
+            at_n = cycles(winner, "convention", w, rw).subs(F.n, point["n"]) - cycles(other, "convention", w, ro).subs(
+                F.n, point["n"]
+            )
+            readings.append(
+                Reading(
+                    name or "as printed",
+                    bool(a < b),
+                    f"{algo(winner)} {num(a)} vs {algo(other)} {num(b)}; at n = {point['n']}: "
+                    + _threshold(at_n, F.m, f"{algo(winner)} cheaper"),
+                )
+            )
+        pa, pb = (_value(mdl, F.readings(mdl)[0], w, point, "printed") for mdl in (winner, other))
+        out.append(
+            claim_from_data(
+                c,
+                source,
+                "comparison",
+                rederived=show_readings(readings) if len(readings) > 1 else readings[0].outcome,
+                measured=None,
+                verdict=from_readings(readings),
+                reason=f"{label}, papers'-convention re-derivation; the printed closed forms give "
+                f"{algo(winner)} {num(pa)} vs {algo(other)} {num(pb)}.",
+                readings=readings if len(readings) > 1 else [],
+            )
+        )
+        out[-1].key = f"{c['id']} n={point['n']} m={point['m']} {scale}"
+        out[-1].statement = f"{c['statement']} at n={point['n']}, m={point['m']} ({label})"
+    return out
+
+
+def _leading(model: str, reading: str, weights: tuple) -> sp.Expr:
+    return sp.expand(F.leading(cycles(model, "convention", weights, reading)) / F.n**2)
+
+
+def fewest_asymptotic(c: dict, source: str) -> Claim:
+    """``winner`` has the smallest leading cycle term as n grows, at each m of ``m_values``."""
+    w = paper_weights()
+    readings = []
+    for mv in c["m_values"]:
+        for name, combo in _pairs_of_readings(c["winner"], *c["others"]):
+            lw = _leading(c["winner"], combo[0], w)
+            parts, ok = [], True
+            for other, ro in zip(c["others"], combo[1:]):
+                lo = _leading(other, ro, w)
+                ok &= bool((lw - lo).subs(F.m, mv) < 0)
+                parts.append(
+                    f"vs {algo(other)} ({sp.sstr(lo)}) n^2: " + _threshold(lw - lo, F.m, f"{algo(c['winner'])} fewer")
+                )
+            readings.append(
+                Reading(f"m = {mv}" + (f", {name}" if name else ""), ok, f"({sp.sstr(lw)}) n^2; " + "; ".join(parts))
+            )
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason="leading cycle terms (paper weights) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
+        readings=readings,
+    )
+
+
+def cycle_ratio(c: dict, source: str) -> Claim:
+    """``numerator / denominator`` cycles equal ``ratio`` (within ``tolerance``) at ``faces`` faces."""
+    w = paper_weights()
+    readings = []
+    for mv in c["m_values"]:
+        for name, (rn, rd) in _pairs_of_readings(c["numerator"], c["denominator"]):
+            num_, den = (cycles(mdl, "convention", w, r) for mdl, r in ((c["numerator"], rn), (c["denominator"], rd)))
+            at = float((num_ / den).subs({F.n: c["faces"], F.m: mv}))
+            limit = sp.limit(num_ / den, F.n, sp.oo)
+            solve = [x for x in sp.solve(sp.Eq(limit, c["ratio"]), F.m) if x.is_real] if limit.has(F.m) else []
+            readings.append(
+                Reading(
+                    f"m = {mv}" + (f", {name}" if name else ""),
+                    abs(at - c["ratio"]) <= c["tolerance"] * c["ratio"],
+                    f"ratio {at:.3f} at n = {c['faces']}; limit {sp.sstr(limit)}"
+                    + (
+                        f", equal to {c['ratio']} only at m = {', '.join(f'{float(x):.4g}' for x in solve)}"
+                        if solve
+                        else ""
+                    ),
+                )
+            )
+    raw = [
+        float(
+            (
+                cycles(c["numerator"], "printed", unit_weights()) / cycles(c["denominator"], "printed", unit_weights())
+            ).subs({F.n: c["faces"], F.m: mv})
+        )
+        for mv in c["m_values"]
+    ]
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason=f"paper cycle weights, papers'-convention sums; {c['tolerance_note']} Raw counts of the printed forms: "
+        + ", ".join(f"m={mv}: {r:.3f}" for mv, r in zip(c["m_values"], raw))
+        + ".",
+        readings=readings,
+    )
+
+
+def joint_ratio(c: dict, source: str) -> Claim:
+    """Two cycle-ratio claims of one sentence, judged together under each reading."""
+    parts = [cycle_ratio({**c, **sub, "id": c["id"], "quote": c["quote"]}, source) for sub in c["ratios"]]
+    readings = []
+    for i, r in enumerate(parts[0].readings):
+        others = [p.readings[i] for p in parts[1:]]
+        readings.append(
+            Reading(r.reading, r.holds and all(o.holds for o in others), "; ".join(x.outcome for x in [r, *others]))
+        )
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason="both ratios of the sentence must hold under one reading; paper cycle weights.",
+        readings=readings,
+    )
+
+
+def equal_kinds(c: dict, source: str) -> Claim:
+    """The models' counts of ``kinds`` are equal at ``point``."""
+    readings = []
+    for name, combo in _pairs_of_readings(*c["models"]):
+        vals = {
+            kind: [
+                F.evaluate(F.paper_forms(mdl, r)["convention"], **c["point"])[kind]
+                for mdl, r in zip(c["models"], combo)
+            ]
+            for kind in c["kinds"]
+        }
+        ok = all(len(set(v)) == 1 for v in vals.values())
+        outcome = "; ".join(
+            f"{kind}: " + ", ".join(f"{algo(mdl)} {num(x)}" for mdl, x in zip(c["models"], v))
+            for kind, v in vals.items()
+        )
+        readings.append(Reading(name or "as printed", ok, outcome))
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=show_readings(readings) if len(readings) > 1 else readings[0].outcome,
+        measured=None,
+        verdict=from_readings(readings),
+        reason=f"papers'-convention counts at n={c['point']['n']}, m={c['point']['m']} (Fig. 6's point).",
+        readings=readings if len(readings) > 1 else [],
+    )
+
+
+RULES = {
+    "fewest_asymptotic": fewest_asymptotic,
+    "cycle_ratio": cycle_ratio,
+    "joint_ratio": joint_ratio,
+    "equal_kinds": equal_kinds,
+}
+MULTI = {"pairwise": pairwise}

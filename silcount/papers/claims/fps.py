@@ -1,0 +1,146 @@
+"""The frame rates: against each other and against the papers' own cycle model at the stated clock.
+
+EESD paper Sec. 6 (TA 69.93, VnV 65.51, EESD 73.16 FPS; no machine named);
+HSD paper Sec. I and VIII (69.93 -> 75.53; "conventional method that is
+maximum 67.54 FPS"; "P IV 2.8GH", bunny data, Table 1: 2207 edges).  The
+cycle model is the papers' own: the papers'-convention sums with the paper's
+weights, one cycle per clock tick; predicted detection time = cycles / clock.
+A detection time longer than the reported frame time cannot be right (the
+frame also renders).  The mesh's n follows from its edge count under two
+readings: the papers' own ``e_n = 6n``, or n = faces of a closed triangle
+mesh (F = 2E/3).
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import sympy as sp
+
+from silcount.papers import formulas as F
+from silcount.papers.claims.base import (
+    Claim,
+    Reading,
+    algo,
+    claim_from_data,
+    cycles,
+    from_readings,
+    paper_weights,
+    show_readings,
+)
+
+
+def _n_readings(edges: int) -> list[tuple[str, sp.Expr]]:
+    return [
+        (f"n = E/6 = {edges / 6:.1f} (the papers' e_n = 6n)", sp.Rational(edges, 6)),
+        (f"n = F = 2E/3 = {2 * edges / 3:.1f} (faces of a closed triangle mesh)", sp.Rational(2 * edges, 3)),
+    ]
+
+
+def frame_time(c: dict, source: str) -> list[Claim]:
+    """Per reported figure: does the predicted detection time fit in the frame time?"""
+    w, clock = paper_weights(), c["clock_ghz"] * 1e9
+    out = []
+    for model, fps in c["fps"].items():
+        readings = []
+        for (n_name, n_val), r in itertools.product(_n_readings(c["edges"]), F.readings(model)):
+            cyc = float(cycles(model, "convention", w, r).subs({F.n: n_val, F.m: c["m"]}))
+            t_ms, frame_ms = 1e3 * cyc / clock, 1e3 / fps
+            readings.append(
+                Reading(
+                    f"{n_name}" + (f", {r}" if r else ""),
+                    t_ms < frame_ms,
+                    f"{cyc:.4g} cycles = {t_ms:.3g} ms at {c['clock_ghz']} GHz vs a {frame_ms:.3g} ms frame; "
+                    f"fits only at >= {cyc * fps / 1e9:.3g} GHz",
+                )
+            )
+        if not c.get("machine_stated", True):
+            readings.append(Reading("another machine (the paper names none)", True, "any clock fast enough fits"))
+        claim = claim_from_data(
+            c,
+            source,
+            "fps",
+            rederived=show_readings(readings),
+            measured=None,
+            verdict=from_readings(readings),
+            reason=f"m = {c['m']} ({c['m_note']}); {c['machine_note']}",
+            readings=readings,
+        )
+        claim.key = f"{c['id']} {algo(model)}"
+        claim.statement = f"{c['statement']}: {algo(model)} at {fps} FPS"
+        out.append(claim)
+    return out
+
+
+def fps_order(c: dict, source: str) -> Claim:
+    """The FPS ordering against the cycle ordering of the papers' own model, per reading of the scene."""
+    fps = c["fps"]
+    by_fps = sorted(fps, key=lambda mdl: -fps[mdl])
+    w = paper_weights()
+    readings = []
+    for point in c["points"]:
+        vals = {mdl: cycles(mdl, "convention", w).subs({F.n: point["n"], F.m: point["m"]}) for mdl in fps}
+        order = sorted(fps, key=lambda mdl: float(vals[mdl]))
+        readings.append(
+            Reading(
+                point["name"],
+                order == by_fps,
+                "fewest cycles first: " + " < ".join(f"{algo(x)} {float(vals[x]):.4g}" for x in order),
+            )
+        )
+    return claim_from_data(
+        c,
+        source,
+        "fps",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason="FPS order (fastest first) " + " > ".join(f"{algo(x)} {fps[x]}" for x in by_fps) + "; the paper "
+        "names no mesh or machine, so each scene reading is tried. " + c.get("note", ""),
+        readings=readings,
+    )
+
+
+def fps_consistency(c: dict, source: str) -> Claim:
+    """A figure reported for a conventional method against the stated maximum of the conventional methods."""
+    over = [x for x in c["conventional"] if x > c["conventional_max"]]
+    readings = [
+        Reading(
+            "the baseline is a conventional method on the same setup",
+            not over,
+            f"{', '.join(map(str, over)) or 'no figure'} above the stated maximum {c['conventional_max']}",
+        ),
+        Reading(
+            "the baseline was measured in another setup ('with different quality')",
+            True,
+            "the figures are not comparable, and neither is the claimed increase",
+        ),
+    ]
+    return claim_from_data(
+        c,
+        source,
+        "fps",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason="the paper's only hedge is 'in the same PC and with different quality'.",
+        readings=readings,
+    )
+
+
+def same_number(c: dict, source: str) -> Claim:
+    """A number reported in two places is the same number."""
+    same = len(set(c["values"])) == 1
+    return claim_from_data(
+        c,
+        source,
+        "fps",
+        rederived="",
+        measured=None,
+        verdict="HOLDS" if same else "FAILS",
+        reason=f"{' and '.join(map(str, c['values']))}: {c['where_note']}.",
+    )
+
+
+RULES = {"fps_order": fps_order, "fps_consistency": fps_consistency, "same_number": same_number}
+MULTI = {"frame_time": frame_time}

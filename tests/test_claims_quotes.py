@@ -1,0 +1,47 @@
+"""Every quote stored in models/ occurs in its paper, over its stored lines (whitespace-insensitive).
+
+Checks the data without building the claims (fast): the claims files, the
+table rows, the per-line annotations and the printed closed-form lines.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from silcount.counting import paper as models
+from silcount.papers.claims.base import CLAIM_FILES
+from silcount.papers.quotes import check, papers_dir
+
+ALGORITHMS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
+
+
+def _quotes():
+    for name in CLAIM_FILES:
+        data = models.load(name)
+        for c in data["claims"]:
+            yield f"{name}:{c['id']}", c.get("paper", data["source_file"]), c["quote"], c["lines"]
+            for prefix in ("ref_", "earlier_"):
+                if f"{prefix}quote" in c:
+                    yield f"{name}:{c['id']}:{prefix}", data["source_file"], c[f"{prefix}quote"], c[f"{prefix}lines"]
+    for name in ("eesd2012-paper",):
+        data = models.load(name)
+        for t in data["tables"]:
+            for r in t["rows"]:
+                yield f"{t['id']}:{r['algorithm']}", data["source_file"], r["quote"], r["lines"]
+    for name in ALGORITHMS:
+        data = models.load(name)
+        for step, spec in data["steps"].items():
+            yield f"{name}:{step}", data["source_file"], spec["quote"], spec["lines"]
+        for i, line in enumerate(data["closed_form"]["lines"]):
+            yield f"{name}:line {i + 1}", data["source_file"], line.get("quote", line["printed"]), line["lines"]
+
+
+QUOTES = list(_quotes())
+
+
+@pytest.mark.parametrize("where, paper, quote, lines", QUOTES, ids=[q[0] for q in QUOTES])
+def test_quote_is_in_the_paper(where, paper, quote, lines):
+    root = papers_dir()
+    if not root.is_dir():
+        pytest.skip(f"paper texts not found at {root} (set SILCOUNT_PAPERS_DIR)")
+    assert check((root / paper).read_text(), quote, lines), f"{where}: not at lines {lines}"
