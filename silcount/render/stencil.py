@@ -134,7 +134,10 @@ def eye_in_shadow(scene: Scene) -> bool:
         far = scene.eye + 1e6 * np.asarray(light.direction) / np.linalg.norm(light.direction)
     else:
         far = np.asarray(light.position)
-    return segment_blocked(scene.eye, far, np.concatenate(tris))
+    tri = np.concatenate(tris)
+    lo, hi = np.minimum(scene.eye, far), np.maximum(scene.eye, far)
+    near = ((tri.min(axis=1) <= hi) & (tri.max(axis=1) >= lo)).all(axis=1)  # boxes that can meet the segment
+    return segment_blocked(scene.eye, far, tri[near])
 
 
 def open_caster_warnings(scene: Scene) -> list[str]:
