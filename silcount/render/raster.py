@@ -18,6 +18,28 @@
 * Facing is the clip-space winding: counter-clockwise in NDC (y up) is
   front-facing, as OpenGL's default ``glFrontFace(GL_CCW)``.
 
+* Two cores (issue 15): :func:`rasterize` first clips and snaps every
+  triangle once, then fills in parallel parts (``prange``): the screen is
+  cut into ``BANDS_PER_PART * parts`` equal row bands, part ``p`` takes
+  bands ``p, p + parts, ...`` one at a time and draws every triangle that
+  reaches the band, in input order, into the band's rows only (a triangle
+  is set up once per band it reaches, so bands are few and tall).  Each
+  pixel therefore
+  sees the same triangles in the same order with the same arithmetic as
+  the single-threaded :func:`silcount.render.baseline.rasterize_serial`
+  (commit 318ab63, kept as the baseline), so depth, stencil and ids are
+  bit-identical for any number of parts.  Row spans step from row to row
+  by exact integer quotient and remainder instead of three divisions per
+  row (shadow-volume sides are long slivers, about 1.4 pixels per row).
+* A triangle with all three vertices beyond one screen edge (``x > w``,
+  ``x < -w``, ``y > w`` or ``y < -w``: a half-space, so the whole triangle
+  is, and its snapped vertices lie at or beyond the last pixel centre's
+  half-pixel margin) is rejected before clipping; one inside every clip
+  plane skips the clipper (Sutherland-Hodgman returns it unchanged).  The
+  clip planes stay at the guard band: clipping at the screen edges would
+  move snapped vertices and change pixels, and the fill already visits
+  only on-screen rows and, per row, only the covered columns.
+
 Modes: ``DEPTH`` writes depth and a triangle id; ``ZPASS`` adds +1 (front)
 / -1 (back) to the stencil where the depth test passes; ``ZFAIL`` adds +1
 (back) / -1 (front) where it fails: the two-sided stencil of the stencil
@@ -28,8 +50,9 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 DEPTH, ZPASS, ZFAIL = 0, 1, 2
 SUBPIXEL = 256
@@ -107,115 +130,220 @@ def _span(ax, ay, bx, by, bias, py, lo, hi):
     return lo, hi
 
 
-@njit(cache=True)
-def _fill(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil, tri_id):
-    """Fill one snapped triangle with positive area ``E01(v2) > 0`` (interior where all E > 0).
+BANDS_PER_PART = 2  # row bands per thread, interleaved (part p fills bands p, p + parts, ...)
 
-    Each row's span is solved from the three edge functions, so only covered
-    pixels are visited (long thin shadow-volume sides have huge bounding boxes).
+
+@njit(cache=True)
+def _trivial(tri, guard):
+    """-1: beyond one screen edge (draws nothing); 1: inside every clip plane (clipping is the identity); 0."""
+    right = left = top = bottom = True
+    inside = True
+    for i in range(3):
+        x, y, w = tri[i, 0], tri[i, 1], tri[i, 3]
+        right &= x > w
+        left &= x < -w
+        top &= y > w
+        bottom &= y < -w
+        for k in range(6):
+            inside &= _plane_distance(tri[i], k, guard) >= 0.0
+    if right or left or top or bottom:
+        return -1
+    return 1 if inside else 0
+
+
+@njit(cache=True)
+def _prepare(clip, W, H, X, Y, Z, nv, area, rows):
+    """Clip and snap every triangle: ``nv[t]`` vertices in ``X, Y, Z[t]`` (0 if nothing to draw), ``area[t]``,
+    and ``rows[t]`` the pixel rows its bounding box can reach."""
+    poly = np.empty((_MAXV, 4))
+    tmp = np.empty((_MAXV, 4))
+    for t in range(clip.shape[0]):
+        nv[t] = 0
+        kind = _trivial(clip[t], GUARD)
+        if kind < 0:
+            continue
+        if kind > 0:
+            n = 3
+            for i in range(3):
+                for c in range(4):
+                    poly[i, c] = clip[t, i, c]
+        else:
+            n = _clip(clip[t], poly, tmp, GUARD)
+            if n < 3:
+                continue
+        for i in range(n):
+            w = poly[i, 3]
+            X[t, i] = int(np.rint((0.5 * poly[i, 0] / w + 0.5) * W * SUBPIXEL))
+            Y[t, i] = int(np.rint((0.5 - 0.5 * poly[i, 1] / w) * H * SUBPIXEL))
+            Z[t, i] = poly[i, 2] / w
+        a = 0
+        for i in range(n):
+            j = (i + 1) % n
+            a += X[t, i] * Y[t, j] - X[t, j] * Y[t, i]
+        if a != 0:
+            nv[t] = n
+            area[t] = a
+            ymin, ymax = Y[t, 0], Y[t, 0]
+            for i in range(1, n):
+                ymin, ymax = min(ymin, Y[t, i]), max(ymax, Y[t, i])
+            rows[t, 0] = (ymin - SUBPIXEL // 2) // SUBPIXEL  # conservative: _fill_rows finds the exact rows
+            rows[t, 1] = (ymax - SUBPIXEL // 2) // SUBPIXEL + 1
+
+
+@njit(cache=True, inline="always")
+def _edge_start(ax, ay, bx, by, bias, py):
+    """The edge ``a -> b`` at row centre ``py`` as :func:`_span` sees it, ready to step row by row.
+
+    :func:`_span` needs ``k // D`` with ``k = -(E_ab(col 0) + bias)``, ``D = |step|``; from one row to
+    the next ``k`` changes by ``dk``, so the quotient and remainder step exactly by ``dk // D``,
+    ``dk % D`` and a carry: the same integers as dividing on every row.  Returns
+    ``(sign of step, q, m, D, dq, dm)``; for a horizontal edge (``step == 0``) ``q`` is ``k`` itself.
     """
+    base = (bx - ax) * (py - ay) - (by - ay) * (SUBPIXEL // 2 - ax)
+    step = -(by - ay) * SUBPIXEL
+    k = -(base + bias)
+    dk = -(bx - ax) * SUBPIXEL
+    if step == 0:
+        return 0, k, 0, 1, dk, 0
+    d = step if step > 0 else -step
+    return (1 if step > 0 else -1), k // d, k % d, d, dk // d, dk % d
+
+
+@njit(cache=True, inline="always")
+def _bound(kind, q, lo, hi):
+    """Narrow ``[lo, hi]`` by one edge, as :func:`_span` does."""
+    if kind > 0:
+        lo = max(lo, q + 1)
+    elif kind < 0:
+        hi = min(hi, -q - 1)
+    elif q >= 0:
+        hi = lo - 1
+    return lo, hi
+
+
+@njit(cache=True)
+def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil, tri_id, row_lo, row_hi):
+    """The baseline's fill (:mod:`.baseline`) on rows ``row_lo..row_hi`` only: the same spans and the same
+    depths, with the spans stepped row by row (:func:`_edge_start`) and the edge functions column by column
+    (exact integers either way)."""
     H, W = depth.shape
     area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
     half = SUBPIXEL // 2
     c0 = max(0, int(math.ceil((min(x0, min(x1, x2)) - half) / SUBPIXEL)))
     c1 = min(W - 1, int(math.floor((max(x0, max(x1, x2)) - half) / SUBPIXEL)))
-    r0 = max(0, int(math.ceil((min(y0, min(y1, y2)) - half) / SUBPIXEL)))
-    r1 = min(H - 1, int(math.floor((max(y0, max(y1, y2)) - half) / SUBPIXEL)))
+    r0 = max(row_lo, int(math.ceil((min(y0, min(y1, y2)) - half) / SUBPIXEL)))
+    r1 = min(row_hi, int(math.floor((max(y0, max(y1, y2)) - half) / SUBPIXEL)))
+    if r0 > r1 or c0 > c1:
+        return
     # top-left rule: an edge a->b owns its centres iff dy < 0, or dy == 0 and dx > 0
     b01 = 1 if (y1 - y0 < 0 or (y1 == y0 and x1 - x0 > 0)) else 0
     b12 = 1 if (y2 - y1 < 0 or (y2 == y1 and x2 - x1 > 0)) else 0
     b20 = 1 if (y0 - y2 < 0 or (y0 == y2 and x0 - x2 > 0)) else 0
     inv = 1.0 / area
+    d01, d12, d20 = -(y1 - y0) * SUBPIXEL, -(y2 - y1) * SUBPIXEL, -(y0 - y2) * SUBPIXEL
+    py = r0 * SUBPIXEL + half
+    ka, qa, ma, da, dqa, dma = _edge_start(x0, y0, x1, y1, b01, py)
+    kb, qb, mb, db, dqb, dmb = _edge_start(x1, y1, x2, y2, b12, py)
+    kc, qc, mc, dc, dqc, dmc = _edge_start(x2, y2, x0, y0, b20, py)
     for r in range(r0, r1 + 1):
-        py = r * SUBPIXEL + half
-        lo, hi = _span(x0, y0, x1, y1, b01, py, c0, c1)
-        lo, hi = _span(x1, y1, x2, y2, b12, py, lo, hi)
-        lo, hi = _span(x2, y2, x0, y0, b20, py, lo, hi)
-        for c in range(lo, hi + 1):
-            px = c * SUBPIXEL + half
+        lo, hi = _bound(ka, qa, c0, c1)
+        lo, hi = _bound(kb, qb, lo, hi)
+        lo, hi = _bound(kc, qc, lo, hi)
+        if lo <= hi:
+            py = r * SUBPIXEL + half
+            px = lo * SUBPIXEL + half
             e01 = (x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)
             e12 = (x2 - x1) * (py - y1) - (y2 - y1) * (px - x1)
             e20 = (x0 - x2) * (py - y2) - (y0 - y2) * (px - x2)
-            z = (e12 * z0 + e20 * z1 + e01 * z2) * inv
-            passed = z < depth[r, c]
-            if mode == DEPTH:
-                if passed:
-                    depth[r, c] = z
-                    tri_id[r, c] = ident
-            elif mode == ZPASS:
-                if passed:
-                    stencil[r, c] += 1 if front else -1
-            else:
-                if not passed:
+            for c in range(lo, hi + 1):
+                z = (e12 * z0 + e20 * z1 + e01 * z2) * inv
+                passed = z < depth[r, c]
+                if mode == DEPTH:
+                    if passed:
+                        depth[r, c] = z
+                        tri_id[r, c] = ident
+                elif mode == ZPASS:
+                    if passed:
+                        stencil[r, c] += 1 if front else -1
+                elif not passed:
                     stencil[r, c] += -1 if front else 1
+                e01 += d01
+                e12 += d12
+                e20 += d20
+        qa, ma = qa + dqa, ma + dma
+        if ma >= da:
+            qa, ma = qa + 1, ma - da
+        qb, mb = qb + dqb, mb + dmb
+        if mb >= db:
+            qb, mb = qb + 1, mb - db
+        qc, mc = qc + dqc, mc + dmc
+        if mc >= dc:
+            qc, mc = qc + 1, mc - dc
 
 
 @njit(cache=True)
-def rasterize(clip, ids, mode, depth, stencil, tri_id):
-    """Rasterise (T, 3, 4) clip-space triangles into the buffers (see module docstring)."""
+def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands):
+    """Bands ``part, part + parts, ...`` of the ``bands`` equal row bands, one after the other; in each, every
+    prepared triangle that reaches it, in input order, into the band's rows only."""
+    H = depth.shape[0]
+    for band in range(part, bands, parts):
+        row_lo = band * H // bands
+        row_hi = (band + 1) * H // bands - 1
+        for t in range(nv.shape[0]):
+            n = nv[t]
+            if n < 3 or rows[t, 0] > row_hi or rows[t, 1] < row_lo:
+                continue
+            front = area[t] < 0  # y points down on screen: counter-clockwise in NDC has negative screen area
+            for k in range(1, n - 1):
+                a2 = (X[t, k] - X[t, 0]) * (Y[t, k + 1] - Y[t, 0]) - (Y[t, k] - Y[t, 0]) * (X[t, k + 1] - X[t, 0])
+                if a2 == 0 or (a2 > 0) != (area[t] > 0):
+                    continue  # a sliver that snapping collapsed or flipped
+                j1, j2 = (k, k + 1) if area[t] > 0 else (k + 1, k)
+                _fill_rows(
+                    X[t, 0],
+                    Y[t, 0],
+                    Z[t, 0],
+                    X[t, j1],
+                    Y[t, j1],
+                    Z[t, j1],
+                    X[t, j2],
+                    Y[t, j2],
+                    Z[t, j2],
+                    front,
+                    mode,
+                    ids[t],
+                    depth,
+                    stencil,
+                    tri_id,
+                    row_lo,
+                    row_hi,
+                )
+
+
+@njit(cache=True, parallel=True)
+def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands):
+    for part in prange(parts):
+        _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands)
+
+
+def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None) -> None:
+    """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's)."""
+    T = clip.shape[0]
+    X = np.empty((T, _MAXV), dtype=np.int64)
+    Y = np.empty((T, _MAXV), dtype=np.int64)
+    Z = np.empty((T, _MAXV))
+    nv = np.empty(T, dtype=np.int64)
+    area = np.zeros(T, dtype=np.int64)
+    rows = np.empty((T, 2), dtype=np.int64)
     H, W = depth.shape
-    poly = np.empty((_MAXV, 4))
-    tmp = np.empty((_MAXV, 4))
-    X = np.empty(_MAXV, dtype=np.int64)
-    Y = np.empty(_MAXV, dtype=np.int64)
-    Z = np.empty(_MAXV)
-    for t in range(clip.shape[0]):
-        n = _clip(clip[t], poly, tmp, GUARD)
-        if n < 3:
-            continue
-        for i in range(n):
-            w = poly[i, 3]
-            X[i] = int(np.rint((0.5 * poly[i, 0] / w + 0.5) * W * SUBPIXEL))
-            Y[i] = int(np.rint((0.5 - 0.5 * poly[i, 1] / w) * H * SUBPIXEL))
-            Z[i] = poly[i, 2] / w
-        area = 0
-        for i in range(n):
-            j = (i + 1) % n
-            area += X[i] * Y[j] - X[j] * Y[i]
-        if area == 0:
-            continue
-        # y points down on screen: counter-clockwise in NDC has negative screen area
-        front = area < 0
-        for k in range(1, n - 1):
-            a2 = (X[k] - X[0]) * (Y[k + 1] - Y[0]) - (Y[k] - Y[0]) * (X[k + 1] - X[0])
-            if a2 == 0 or (a2 > 0) != (area > 0):
-                continue  # a sliver that snapping collapsed or flipped
-            if area > 0:
-                _fill(
-                    X[0],
-                    Y[0],
-                    Z[0],
-                    X[k],
-                    Y[k],
-                    Z[k],
-                    X[k + 1],
-                    Y[k + 1],
-                    Z[k + 1],
-                    front,
-                    mode,
-                    ids[t],
-                    depth,
-                    stencil,
-                    tri_id,
-                )
-            else:
-                _fill(
-                    X[0],
-                    Y[0],
-                    Z[0],
-                    X[k + 1],
-                    Y[k + 1],
-                    Z[k + 1],
-                    X[k],
-                    Y[k],
-                    Z[k],
-                    front,
-                    mode,
-                    ids[t],
-                    depth,
-                    stencil,
-                    tri_id,
-                )
+    if T:
+        _prepare(clip, W, H, X, Y, Z, nv, area, rows)
+        parts = parts or numba.get_num_threads()
+        if parts == 1:
+            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1)
+        else:
+            bands = min(H, BANDS_PER_PART * parts)
+            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands)
 
 
 def new_buffers(width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -228,8 +356,12 @@ def new_buffers(width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 def to_clip(points_h: np.ndarray, view_projection: np.ndarray) -> np.ndarray:
-    """(T, 3, 4) homogeneous world triangles -> clip space, C-contiguous float64."""
-    return np.ascontiguousarray(points_h @ view_projection.T, dtype=np.float64)
+    """(T, 3, 4) homogeneous world triangles -> clip space, C-contiguous float64.
+
+    One (3T, 4) x (4, 4) product rather than T stacked (3, 4) x (4, 4) ones: several times faster, and the
+    same BLAS kernel per element (``tests/test_render_bands.py`` checks the masks against commit 318ab63)."""
+    p = np.ascontiguousarray(points_h, dtype=np.float64)
+    return np.ascontiguousarray((p.reshape(-1, 4) @ view_projection.T).reshape(p.shape))
 
 
 def homogeneous(triangles: np.ndarray, w: float = 1.0) -> np.ndarray:

@@ -134,7 +134,10 @@ def eye_in_shadow(scene: Scene) -> bool:
         far = scene.eye + 1e6 * np.asarray(light.direction) / np.linalg.norm(light.direction)
     else:
         far = np.asarray(light.position)
-    return segment_blocked(scene.eye, far, np.concatenate(tris))
+    tri = np.concatenate(tris)
+    lo, hi = np.minimum(scene.eye, far), np.maximum(scene.eye, far)
+    near = ((tri.min(axis=1) <= hi) & (tri.max(axis=1) >= lo)).all(axis=1)  # boxes that can meet the segment
+    return segment_blocked(scene.eye, far, tri[near])
 
 
 def open_caster_warnings(scene: Scene) -> list[str]:
@@ -187,7 +190,7 @@ def render_stencil(
     stencil = np.zeros((camera.height, camera.width), dtype=np.int32)
     mode = ZPASS if method == "zpass" else ZFAIL
     offsets = np.concatenate([[0], np.cumsum([o.mesh.n_faces for o in scene.objects])])
-    volumes = []
+    volumes, parts = [], []
     for k, obj in enumerate(scene.objects):
         if not obj.casts_shadow:
             continue
@@ -195,18 +198,18 @@ def render_stencil(
         sil = detect(obj.mesh, scene.light, detector, variant=variant, engine="fast")
         t1 = time.perf_counter()
         vol = build_volume(obj.mesh, scene.light, silhouette=sil, receiver=receiver)
-        parts = [to_clip(vol.sides, camera.view_projection)]
+        parts.append(to_clip(vol.sides, camera.view_projection))
         if method == "zfail":
             parts.append(sd.clip[offsets[k] : offsets[k + 1]][vol.lit_faces])
             parts.append(to_clip(vol.dark_cap, camera.view_projection))
-        clip = np.ascontiguousarray(np.concatenate(parts, axis=0))
-        t2 = time.perf_counter()
-        rasterize(clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id)  # read-only here
-        t3 = time.perf_counter()
         timings["silhouette"] += t1 - t0
-        timings["volume"] += t2 - t1
-        timings["raster"] += t3 - t2
+        timings["volume"] += time.perf_counter() - t1
         volumes.append(vol)
+    if parts:  # every caster's volume in one pass: the stencil is a sum of +-1, in any order
+        t0 = time.perf_counter()
+        clip = np.ascontiguousarray(np.concatenate(parts, axis=0))
+        rasterize(clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id)  # read-only here
+        timings["raster"] += time.perf_counter() - t0
     mask = sd.coverage & shadow_from_stencil(stencil, shadow_test)
     return StencilResult(
         mask, sd.coverage, stencil, sd, volumes, timings, eye_in_shadow(scene), open_caster_warnings(scene)
