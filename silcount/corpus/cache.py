@@ -3,8 +3,11 @@
 An interrupted sweep resumes: every finished unit of work is written here by
 the client as soon as it arrives (atomically, so a kill never leaves half an
 entry), and a rerun with the same settings skips it.  The key is the SHA-256
-of ``{"sha256", "level", "settings", "silcount_version"}`` as canonical JSON,
-so renaming or moving a file keeps its entry and editing it does not.  Failed
+of ``{"sha256", "level", "settings", "silcount_version", "code"}`` as
+canonical JSON, so renaming or moving a file keeps its entry and editing it
+does not.  ``code`` (:func:`code_digest`) digests silcount's own sources and
+``models/``: a development tree's version string does not change when a
+detector does, and a stale count must never be read back.  Failed
 meshes are not cached (their error may be transient, e.g. memory).
 
 The timing settings (:data:`TIMING_FIELDS`) are not in the key: the counts do
@@ -22,10 +25,12 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+from functools import cache
 from pathlib import Path
 
 from silcount.atomic import write_text
 from silcount.corpus.work import Settings
+from silcount.counting.paper import models_dir
 from silcount.version import __version__
 
 
@@ -43,10 +48,28 @@ def timing_of(settings: Settings) -> dict:
     return {k: d[k] for k in TIMING_FIELDS}
 
 
+@cache
+def code_digest() -> str:
+    """SHA-256 over every ``silcount/**/*.py`` and ``models/**/*.toml`` file (relative path and bytes)."""
+    h = hashlib.sha256()
+    package = Path(__file__).resolve().parents[1]
+    roots = ((package, "*.py"), (models_dir(), "*.toml"))
+    for root, pattern in roots:
+        for path in sorted(root.rglob(pattern)):
+            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def cache_key(sha256: str, level: int, settings: Settings) -> str:
     """The entry's name: a digest of what determines its counts (timing settings aside)."""
     counts = {k: v for k, v in settings.as_dict().items() if k not in TIMING_FIELDS}
-    what = {"sha256": sha256, "level": int(level), "settings": counts, "silcount_version": __version__}
+    what = {
+        "sha256": sha256,
+        "level": int(level),
+        "settings": counts,
+        "silcount_version": __version__,
+        "code": code_digest(),
+    }
     return hashlib.sha256(json.dumps(what, sort_keys=True).encode()).hexdigest()
 
 
