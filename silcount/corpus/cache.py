@@ -5,8 +5,8 @@ the client as soon as it arrives (atomically, so a kill never leaves half an
 entry), and a rerun with the same settings skips it.  The key is the SHA-256
 of ``{"sha256", "level", "settings", "silcount_version", "code"}`` as
 canonical JSON, so renaming or moving a file keeps its entry and editing it
-does not.  ``code`` (:func:`code_digest`) digests silcount's own sources and
-``models/``: a development tree's version string does not change when a
+does not.  ``code`` (:func:`code_digest`) digests the sources a unit's result
+depends on and ``models/``: a development tree's version string does not change when a
 detector does, and a stale count must never be read back.  Failed
 meshes are not cached (their error may be transient, e.g. memory).
 
@@ -48,15 +48,26 @@ def timing_of(settings: Settings) -> dict:
     return {k: d[k] for k in TIMING_FIELDS}
 
 
+UNIT_SOURCES = (
+    "*.py",
+    "counting/**/*.py",
+    "mesh/**/*.py",
+    "detectors/**/*.py",
+    "corpus/work.py",
+    "corpus/subdivide.py",
+)
+"""The sources a unit's result depends on (under ``silcount/``): the layers below ``corpus`` and the unit's own."""
+
+
 @cache
 def code_digest() -> str:
-    """SHA-256 over every ``silcount/**/*.py`` and ``models/**/*.toml`` file (relative path and bytes)."""
+    """SHA-256 over :data:`UNIT_SOURCES` and ``models/**/*.toml`` (relative path and bytes of each)."""
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
-    roots = ((package, "*.py"), (models_dir(), "*.toml"))
-    for root, pattern in roots:
-        for path in sorted(root.rglob(pattern)):
-            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    files = sorted({(package, p) for pattern in UNIT_SOURCES for p in package.glob(pattern)})
+    files += sorted((models_dir(), p) for p in models_dir().rglob("*.toml"))
+    for root, path in files:
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()
 
 
