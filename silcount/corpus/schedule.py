@@ -108,7 +108,7 @@ def _distributed(items: list[Item], todo: list[int], settings: Settings, address
     from distributed import Client, as_completed
 
     try:
-        client = Client(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        client = Client(address, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as exc:
         raise BadArgument(f"--scheduler {address}: cannot reach the Dask scheduler: {exc}") from None
     with client:

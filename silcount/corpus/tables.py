@@ -47,6 +47,16 @@ MESH_FIELDS = (
     "silhouette_edges_mean",
     "silhouette_edges_std",
 )
+INT_FIELDS = (
+    "level",
+    "vertices",
+    "faces",
+    "edges",
+    "boundary_edges",
+    "nonmanifold_edges",
+    "coplanar_polygons",
+    "lights",
+)
 PER_RUN = ("silhouette_edges", "missed_edges", "extra_edges")
 
 
@@ -119,13 +129,13 @@ def fits(meshes: pd.DataFrame, settings: Settings) -> dict[str, dict]:
     return out
 
 
-def _clean(value):
-    """JSON-ready: numpy scalars to Python, NaN to None."""
+def _clean(value, integer: bool = False):
+    """JSON-ready: numpy scalars to Python, NaN to None, ``integer`` columns (float after a missing value) to int."""
     if hasattr(value, "item"):
         value = value.item()
     if isinstance(value, float) and value != value:
         return None
-    return value
+    return int(value) if integer and value is not None else value
 
 
 def mesh_documents(meshes: pd.DataFrame, rows: pd.DataFrame, settings: Settings) -> list[dict]:
@@ -133,7 +143,7 @@ def mesh_documents(meshes: pd.DataFrame, rows: pd.DataFrame, settings: Settings)
     values = value_columns(rows) if not rows.empty else []
     docs = []
     for rec in meshes.to_dict(orient="records"):
-        doc = {k: _clean(rec[k]) for k in ("file", "level", "sha256", *MESH_FIELDS)}
+        doc = {k: _clean(rec[k], k in INT_FIELDS) for k in ("file", "level", "sha256", *MESH_FIELDS)}
         doc["time_per_light_s"] = {d: _clean(rec[f"time_per_light_s:{d}"]) for d in settings.detectors}
         doc["time_errors"] = rec["time_errors"]
         doc["detectors"] = {}
