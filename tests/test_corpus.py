@@ -194,8 +194,16 @@ def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
     assert main([*args, "--out", str(out), "--format", "md", "--quiet"]) == 0
     assert "## Fits" in capsys.readouterr().out
     names = {p.name for p in out.iterdir()}
-    assert {"corpus.parquet", "meshes.csv", "fits.json", "summary.md", "silhouette.png", "silhouette.svg",
-            "operations.png", "hsd_merge.svg"} <= names  # fmt: skip
+    assert {
+        "corpus.parquet",
+        "meshes.csv",
+        "fits.json",
+        "summary.md",
+        "silhouette.png",
+        "silhouette.svg",
+        "operations.png",
+        "hsd_merge.svg",
+    } <= names
     import pandas as pd
 
     assert len(pd.read_parquet(out / "corpus.parquet")) == 4 * 2 * 5

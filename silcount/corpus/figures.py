@@ -16,12 +16,19 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from silcount.atomic import atomic_path
 
-STYLE = {"svg.hashsalt": "silcount", "font.size": 10, "axes.grid": True, "grid.alpha": 0.3, "axes.axisbelow": True}
+STYLE: dict[str, Any] = {
+    "svg.hashsalt": "silcount",
+    "font.size": 10,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.axisbelow": True,
+}
 KIND_COLOURS = {"closed": "#1b6ca8", "open": "#d1495b", "flat": "#2e933c"}
 LEVEL_MARKERS = ("o", "s", "^", "D", "v")
 RUN_COLOURS = ("#555555", "#1b6ca8", "#d1495b", "#edae49", "#2e933c", "#7b4ea3", "#e07a1f", "#3aa5a5", "#a0522d")
@@ -40,7 +47,7 @@ def _save(fig, out_dir: Path, stem: str) -> list[Path]:
     return paths
 
 
-def _line(ax, fit: dict, xs: np.ndarray, label: str, **kw) -> None:
+def _line(ax, fit: dict | None, xs: np.ndarray, label: str, **kw) -> None:
     if fit and fit.get("alpha") is not None:
         lo, hi = fit["alpha_ci"] or (float("nan"), float("nan"))
         ax.plot(
@@ -138,7 +145,7 @@ def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Pa
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    with plt.rc_context(STYLE):
+    with plt.rc_context(STYLE):  # type: ignore[arg-type]  # matplotlib's stubs want literal rc keys
         paths = silhouette(meshes, fits, out_dir) + operations(meshes, fits, runs, out_dir)
         if "ta" in runs and "hsd" in runs:
             paths += hsd_merge(meshes, out_dir)

@@ -123,8 +123,8 @@ def _distributed(items: list[Item], todo: list[int], settings: Settings, address
             if fut.status == "finished":
                 finish(i, fut.result())
             else:  # the task itself never raises: this is the cluster losing it (KilledWorker, cancelled)
-                exc = fut.exception()
-                finish(i, _failed(items[i], f"{type(exc).__name__}: {exc}"))
+                lost = fut.exception()
+                finish(i, _failed(items[i], f"{type(lost).__name__}: {lost}"))
 
 
 def _failed(item: Item, error: str) -> dict:
