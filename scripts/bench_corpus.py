@@ -95,10 +95,11 @@ def main() -> None:
             f"{r['meshes']} meshes ({r['failed']} failed), {r['faces']:,} faces, {r['rows']:,} rows; "
             f"peak RSS: largest worker {r['worker_peak_mib']:.0f} MiB, client {r['client_peak_mib']:.0f} MiB"
         )
-    if len(runs) > 1:
-        base = runs[0]
-        for r in runs[1:]:
-            print(f"speed-up {r['workers']} vs {base['workers']} worker(s): {base['wall_s'] / r['wall_s']:.2f}x")
+    by_workers = {r["workers"]: r for r in runs}
+    if 1 in by_workers:
+        for r in runs:
+            if r["workers"] != 1:
+                print(f"speed-up of {r['workers']} workers over 1: {by_workers[1]['wall_s'] / r['wall_s']:.2f}x")
     print(f"load average after: {os.getloadavg()[0]:.1f} (figures taken under this load)")
 
 
