@@ -156,7 +156,7 @@ def run_record(mesh: Mesh, light: Light, name: str, variant: str, settings: Sett
     """One detector under one light: edges, agreement with the reference, tallies and cycles per model."""
     res = detect(mesh, light, name, variant=variant, engine=settings.engine)
     profiles = builtin_profiles()
-    out = {
+    out: dict[str, int | float] = {
         "silhouette_edges": res.n_edges,
         "missed_edges": int(res.notes.get("missed_edges", 0)),
         "extra_edges": int(res.notes.get("extra_edges", 0)),
