@@ -35,6 +35,10 @@ def _levels(text: str) -> list[int]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.epilog = (
+        "exit status: 0 every mesh audited; 1 at least one mesh could not be (its row carries the one-line error, "
+        "every output is still written); 2 bad arguments; 3 no mesh file found"
+    )
     parser.add_argument("paths", nargs="+", metavar="PATH", help="mesh files or folders (searched recursively)")
     parser.add_argument("--lights", type=int, default=64, metavar="N", help="lights per mesh (default 64)")
     parser.add_argument(
