@@ -1,0 +1,107 @@
+"""Benchmark `silcount corpus` on the shared corpus: wall time with 1 and with 2 workers, peak memory per worker.
+
+Settings of issue 13: every file of the corpus (``SILCOUNT_CORPUS_DIR``, else
+``../shared/corpus`` beside the repository, else the folder given), 64
+directional lights, the five detectors (``intended``) on the ``fast`` engine,
+Dask's local ``processes`` scheduler, no cache, no timing of the plain loops
+(``--with-time`` adds it).  Each configuration runs in a fresh Python process
+so that ``getrusage(RUSAGE_CHILDREN).ru_maxrss`` is the peak resident memory
+of *its* worker processes (the largest one), beside the client's own peak.
+The ratio line compares the two runs of this invocation.
+
+    python scripts/bench_corpus.py [CORPUS_DIR] [--workers 1,2] [--subdivide 0] [--with-time]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+TARGET_S = 300.0
+
+
+def corpus_dir(given: str | None) -> Path:
+    for candidate in (given, os.environ.get("SILCOUNT_CORPUS_DIR"), str(ROOT.parent / "shared" / "corpus")):
+        if candidate and Path(candidate).is_dir():
+            return Path(candidate)
+    sys.exit("no corpus: pass a folder, set SILCOUNT_CORPUS_DIR, or put one at ../shared/corpus")
+
+
+def one(folder: Path, workers: int, levels: list[int], with_time: bool) -> dict:
+    """One sweep in this process; wall time, meshes, failures, peak RSS of the client and of the largest worker."""
+    sys.path.insert(0, str(ROOT))
+    from silcount.corpus import corpus
+
+    t0 = time.perf_counter()
+    result = corpus(
+        [folder],
+        lights=64,
+        light_kind="directional",
+        subdivide=levels,
+        scheduler="processes",
+        workers=workers,
+        cache=False,
+        timing=with_time,
+        quiet=True,
+    )
+    wall = time.perf_counter() - t0
+    return {
+        "workers": workers,
+        "wall_s": wall,
+        "meshes": len(result.meshes),
+        "failed": result.failed,
+        "rows": len(result.rows),
+        "faces": int(result.meshes["faces"].fillna(0).sum()),
+        "client_peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "worker_peak_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("folder", nargs="?")
+    ap.add_argument("--workers", default="1,2")
+    ap.add_argument("--subdivide", default="0")
+    ap.add_argument("--with-time", action="store_true")
+    ap.add_argument("--one", type=int, default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    folder = corpus_dir(args.folder)
+    levels = [int(v) for v in args.subdivide.split(",")]
+    if args.one is not None:
+        print(json.dumps(one(folder, args.one, levels, args.with_time)))
+        return
+    print(
+        f"corpus {folder}, levels {levels}, 64 directional lights, 5 detectors intended, fast engine, "
+        f"processes scheduler, {'with' if args.with_time else 'no'} plain-loop timing; load {os.getloadavg()[0]:.1f}"
+    )
+    runs = []
+    for workers in [int(v) for v in args.workers.split(",")]:
+        cmd = [sys.executable, __file__, str(folder), "--one", str(workers), "--subdivide", args.subdivide]
+        out = subprocess.run(cmd + (["--with-time"] if args.with_time else []), capture_output=True, text=True)
+        if out.returncode:
+            sys.exit(f"{workers} workers: failed:\n{out.stderr}")
+        r = json.loads(out.stdout.strip().splitlines()[-1])
+        runs.append(r)
+        verdict = "under" if r["wall_s"] < TARGET_S else "OVER"
+        print(
+            f"{workers} worker(s): {r['wall_s']:8.1f} s wall ({verdict} the {TARGET_S:.0f} s target), "
+            f"{r['meshes']} meshes ({r['failed']} failed), {r['faces']:,} faces, {r['rows']:,} rows; "
+            f"peak RSS: largest worker {r['worker_peak_mib']:.0f} MiB, client {r['client_peak_mib']:.0f} MiB"
+        )
+    by_workers = {r["workers"]: r for r in runs}
+    if 1 in by_workers:
+        for r in runs:
+            if r["workers"] != 1:
+                print(f"speed-up of {r['workers']} workers over 1: {by_workers[1]['wall_s'] / r['wall_s']:.2f}x")
+    print(f"load average after: {os.getloadavg()[0]:.1f} (figures taken under this load)")
+
+
+if __name__ == "__main__":
+    main()

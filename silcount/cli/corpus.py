@@ -1,0 +1,141 @@
+"""`silcount corpus PATH...`: every detector under many lights on every mesh of a collection, on Dask.
+
+The sweep is :func:`silcount.corpus.corpus`; the files of ``--out`` and the
+stdout formats are :mod:`silcount.corpus.output`.  Runs in-process by default
+(``--scheduler processes`` or ``threads``, ``--workers N``), or on a running
+``dask.distributed`` cluster (``--scheduler tcp://HOST:PORT``, after
+``dask scheduler`` and ``dask worker tcp://HOST:PORT`` on the machines).
+
+Exit status: 0 when every mesh was audited; **1 when at least one mesh could
+not be** (its row carries the one-line ``error``; every output is still
+written); 2 bad arguments; 3 no mesh file found or a path that does not exist.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+HELP = "sweep a collection of meshes (files or folders): silhouette size and every detector's cost against faces"
+CORPUS_ENV = "SILCOUNT_CORPUS_DIR"
+REPORT_LEVELS = (0,)  # each subdivision level quadruples the faces, and about the time, of the sweep
+DETECTOR_NAMES = "reference,ta,vnv,hsd,eesd"
+
+
+def _levels(text: str) -> list[int]:
+    try:
+        levels = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of levels such as 0,1,2") from None
+    if not levels or min(levels) < 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: levels are integers >= 0")
+    return levels
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.epilog = (
+        "exit status: 0 every mesh audited; 1 at least one mesh could not be (its row carries the one-line error, "
+        "every output is still written); 2 bad arguments; 3 no mesh file found"
+    )
+    parser.add_argument("paths", nargs="+", metavar="PATH", help="mesh files or folders (searched recursively)")
+    parser.add_argument("--lights", type=int, default=64, metavar="N", help="lights per mesh (default 64)")
+    parser.add_argument(
+        "--light-kind",
+        choices=("directional", "point", "both"),
+        default="directional",
+        help="directions uniform on the sphere; point lights at 3x the bounding radius; both (default directional)",
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of every mesh's lights, with its sha256 (default 0)")
+    parser.add_argument(
+        "--detectors", default=None, metavar="LIST", help=f"comma-separated subset of {DETECTOR_NAMES} (default: all)"
+    )
+    parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
+    parser.add_argument(
+        "--subdivide",
+        type=_levels,
+        default=[0],
+        metavar="LEVELS",
+        help="midpoint subdivision levels to sweep, e.g. 0,1,2 (default 0: the files as they are)",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default="processes",
+        metavar="threads|processes|tcp://HOST:PORT",
+        help="Dask's in-process threads or processes, or a dask.distributed scheduler's address (default processes)",
+    )
+    parser.add_argument("--workers", type=int, default=None, metavar="N", help="local workers (default: CPU count)")
+    cache = parser.add_mutually_exclusive_group()
+    cache.add_argument("--cache", type=Path, default=None, metavar="DIR", help="cache folder (default ~/.cache/...)")
+    cache.add_argument("--no-cache", action="store_true", help="neither read nor write the cache")
+    parser.add_argument("--no-time", action="store_true", help="do not time the plain compiled loops")
+    parser.add_argument(
+        "--time-lights", type=int, default=1, metavar="K", help="lights timed per mesh and detector (default 1)"
+    )
+    parser.add_argument("--format", choices=("text", "md", "json"), default="text", help="stdout (default text)")
+    parser.add_argument(
+        "--out", type=Path, default=None, metavar="DIR", help="write corpus.parquet, meshes.csv, fits.json, figures"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    from silcount.corpus import corpus
+    from silcount.corpus.output import render, write_out
+    from silcount.errors import BadArgument
+
+    if args.out is not None and args.out.exists() and not args.out.is_dir():
+        raise BadArgument(f"--out {args.out}: not a directory")
+    if args.workers is not None and args.workers < 1:
+        raise BadArgument(f"--workers {args.workers}: need at least one")
+    detectors = None if args.detectors is None else [d.strip() for d in args.detectors.split(",") if d.strip()]
+    result = corpus(
+        args.paths,
+        lights=args.lights,
+        light_kind=args.light_kind,
+        seed=args.seed,
+        detectors=detectors,
+        variant=args.variant,
+        subdivide=args.subdivide,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        cache=False if args.no_cache else (args.cache or True),
+        timing=not args.no_time,
+        time_lights=args.time_lights,
+        quiet=args.quiet,
+    )
+    sys.stdout.write(render(result, args.format))
+    if args.out is not None:
+        for path in write_out(result, args.out):
+            print(f"wrote {path}", file=sys.stderr)
+    return 1 if result.failed else 0
+
+
+def corpus_dir() -> Path | None:
+    """``$SILCOUNT_CORPUS_DIR``, else ``../shared/corpus`` beside the repository, if it exists."""
+    env = os.environ.get(CORPUS_ENV)
+    beside = Path(__file__).resolve().parents[2].parent / "shared" / "corpus"
+    for candidate in ([Path(env)] if env else []) + [beside]:
+        if candidate.is_dir():
+            return candidate
+    return None
+
+
+def report(out_dir: Path) -> list[Path]:
+    """The corpus section of `silcount report` under ``out_dir/corpus/``, or nothing (saying so) without a corpus.
+
+    Settings: 64 directional lights of seed 0, the five detectors (``intended``),
+    subdivision levels :data:`REPORT_LEVELS`, no wall times (byte-identical
+    reruns), the default cache (a timed ``silcount corpus`` run with the same
+    settings fills it), no ``corpus.parquet``.
+    """
+    from silcount.corpus import corpus
+    from silcount.corpus.output import write_out
+
+    source = corpus_dir()
+    if source is None:
+        print(f"corpus: skipped: neither ${CORPUS_ENV} nor ../shared/corpus beside the repository exists")
+        return []
+    result = corpus([source], subdivide=REPORT_LEVELS, timing=False, quiet=True)
+    return write_out(result, out_dir / "corpus", with_rows=False)

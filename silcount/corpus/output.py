@@ -1,0 +1,119 @@
+"""Writing a sweep: ``--out DIR`` files and the ``text``/``md``/``json`` renderings for stdout.
+
+``--out DIR`` receives ``corpus.parquet`` (pyarrow; the rows table of
+:mod:`silcount.corpus.tables`), ``meshes.csv``, ``fits.json``, ``summary.md``
+(the summary and fits tables below) and the figures of
+:mod:`silcount.corpus.figures`, each written atomically.
+
+The *summary* table has one row per mesh and level: ``file, level, faces,
+kind, coplanar_polygons, silhouette_edges_mean, silhouette_edges_std,
+error``; the *fits* table one row per fit: ``fit, subset, meshes, alpha,
+alpha_lo, alpha_hi, c``.  ``text`` and ``md`` print both (every column);
+``json`` prints the whole ``silcount-corpus/1`` document.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from silcount.atomic import atomic_path, write_text
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from silcount.corpus import CorpusResult
+
+FORMATS = ("text", "md", "json")
+SUMMARY = (
+    "file",
+    "level",
+    "faces",
+    "kind",
+    "coplanar_polygons",
+    "silhouette_edges_mean",
+    "silhouette_edges_std",
+    "error",
+)
+
+
+def summary_frame(meshes: pd.DataFrame) -> pd.DataFrame:
+    out = meshes[list(SUMMARY)].copy()
+    for col in ("silhouette_edges_mean", "silhouette_edges_std"):
+        out[col] = out[col].map(lambda v: "" if v != v or v is None else f"{v:.1f}")
+    for col in ("faces", "coplanar_polygons"):
+        out[col] = out[col].map(lambda v: "" if v != v or v is None else f"{int(v)}")
+    return out.fillna("")
+
+
+def fits_frame(fits: dict) -> pd.DataFrame:
+    import pandas as pd
+
+    def num(v, spec: str) -> str:
+        return "" if v is None else format(v, spec)
+
+    return pd.DataFrame.from_records(
+        [
+            {
+                "fit": name,
+                "subset": f["subset"],
+                "meshes": f["meshes"],
+                "alpha": num(f["alpha"], ".3f"),
+                "alpha_lo": num(f["alpha_ci"] and f["alpha_ci"][0], ".3f"),
+                "alpha_hi": num(f["alpha_ci"] and f["alpha_ci"][1], ".3f"),
+                "c": num(f["c"], ".4g"),
+            }
+            for name, f in fits.items()
+        ],
+        columns=["fit", "subset", "meshes", "alpha", "alpha_lo", "alpha_hi", "c"],
+    )
+
+
+def render_json(result: CorpusResult) -> str:
+    return json.dumps(result.document, indent=2, sort_keys=False) + "\n"
+
+
+def render(result: CorpusResult, form: str) -> str:
+    """The sweep as ``text``, ``md`` or ``json``."""
+    if form == "json":
+        return render_json(result)
+    summary, fits = summary_frame(result.meshes), fits_frame(result.fits)
+    failed = f"{result.failed} of {len(result.meshes)} meshes could not be audited (see error)\n"
+    if form == "md":
+        return (
+            "## Meshes\n\n"
+            + summary.to_markdown(index=False)
+            + "\n\n"
+            + failed
+            + "\n## Fits: y ~ c F^alpha (95% bootstrap interval for alpha)\n\n"
+            + fits.to_markdown(index=False)
+            + "\n"
+        )
+    return (
+        "Meshes\n"
+        + summary.to_string(index=False)
+        + "\n"
+        + failed
+        + "\nFits: y ~ c F^alpha (95% bootstrap interval for alpha)\n"
+        + fits.to_string(index=False)
+        + "\n"
+    )
+
+
+def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> list[Path]:
+    """Every ``--out`` file under ``out_dir`` (``with_rows=False`` leaves out ``corpus.parquet``)."""
+    from silcount.corpus.figures import write_figures
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    if with_rows:
+        path = out_dir / "corpus.parquet"
+        with atomic_path(path) as tmp:
+            result.rows.to_parquet(tmp, engine="pyarrow", index=False)
+        paths.append(path)
+    paths.append(write_text(out_dir / "meshes.csv", result.meshes.to_csv(index=False)))
+    paths.append(write_text(out_dir / "fits.json", json.dumps(result.fits, indent=2) + "\n"))
+    paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + render(result, "md")))
+    runs = [key for key, _, _ in result.settings.runs()]
+    return paths + write_figures(result.meshes, result.fits, runs, out_dir)

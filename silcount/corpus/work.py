@@ -1,0 +1,255 @@
+"""One unit of corpus work: one file's bytes at one subdivision level, on any worker.
+
+:func:`audit_task` is what a Dask worker runs.  It receives the file's bytes
+(the client read them: workers need no shared filesystem), writes them to a
+private temporary file, loads it with :func:`silcount.mesh.io.load_mesh`,
+subdivides it (:mod:`silcount.corpus.subdivide`) and runs every requested
+detector under every light with :func:`silcount.detectors.detect`.  It returns
+plain JSON-ready data and never raises for a bad mesh: the failure becomes the
+result's one-line ``error`` (so one file never stops a sweep).
+
+Decisions, named:
+
+* **Lights** (:func:`mesh_lights`): unit directions drawn from
+  ``numpy.random.default_rng(SeedSequence([seed, *sha256 words]))``, normal
+  then normalised, so a mesh's lights depend on ``--seed`` and its own bytes
+  only, never on the other files of the sweep.  ``directional`` uses them as
+  directions towards the light; ``point`` puts a light at 3x the source's
+  bounding radius from its bounding-box centre along each; ``both`` is the
+  directional set followed by the point set along the *same* directions (a
+  paired comparison).  Every subdivision level of a file gets its source's
+  lights (subdivision moves no point, so centre and radius are the source's).
+* **Silhouette size** per light is the reference detector's edge count
+  (:func:`silcount.detectors.adjacency.silhouette_edge_ids`), run whether or
+  not ``reference`` is among the detectors; its mean and population standard
+  deviation (``ddof=0``) over the lights are the mesh's
+  ``silhouette_edges_mean``/``_std``.
+* **Time per light** is the wall time of :func:`silcount.detectors.plain.plain_edge_ids`
+  (each algorithm's own compiled, uncounted loops, ``intended``), averaged
+  over the first ``time_lights`` lights after one warm-up call per process.
+  The O(E x F) loops of VnV and EESD are timed only while ``E x F`` is at most
+  ``time_max_pairs``, the others only up to ``time_max_faces`` faces: beyond,
+  ``null`` (one light of VnV on 86,482 faces would take minutes).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from silcount.counting.arithmetic import KINDS
+from silcount.counting.cycles import builtin_profiles
+from silcount.detectors import DETECTORS, detect
+from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.errors import SilcountError
+from silcount.mesh.io import load_mesh
+from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.model import Mesh
+from silcount.mesh.stats import mesh_statistics
+
+LIGHT_DISTANCE = 3.0
+LIGHT_KINDS = ("directional", "point", "both")
+QUADRATIC = ("vnv", "eesd")  # plain loops over every (edge, face) pair
+FLAT_RELATIVE = 1e-9
+"""A mesh is *flat* when its vertices' smallest principal extent is at most this times the largest."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What each mesh is swept with; every field is part of the cache key."""
+
+    lights: int = 64
+    light_kind: str = "directional"
+    seed: int = 0
+    detectors: tuple[str, ...] = DETECTORS
+    variants: tuple[str, ...] = ("intended",)
+    engine: str = "fast"
+    timing: bool = True
+    time_lights: int = 1
+    time_max_faces: int = 200_000
+    time_max_pairs: int = 100_000_000
+    profiles: tuple[str, ...] = field(default_factory=lambda: tuple(builtin_profiles()))
+
+    def runs(self) -> list[tuple[str, str, str]]:
+        """(key, detector, variant) per run; ``reference`` has the one variant, keys as in ``silcount audit``."""
+        out = []
+        for name in self.detectors:
+            for variant in ("intended",) if name == "reference" else self.variants:
+                out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+        return out
+
+    def as_dict(self) -> dict:
+        d = asdict(self)
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+
+def sha256_words(sha256: str) -> list[int]:
+    """The 32-byte digest as eight unsigned 32-bit words (a SeedSequence entropy)."""
+    raw = bytes.fromhex(sha256)
+    return [int.from_bytes(raw[i : i + 4], "little") for i in range(0, 32, 4)]
+
+
+def mesh_lights(mesh: Mesh, settings: Settings, sha256: str) -> list[Light]:
+    """The lights of a file (see the module docstring); ``mesh`` is the source (level 0)."""
+    rng = np.random.default_rng(np.random.SeedSequence([int(settings.seed), *sha256_words(sha256)]))
+    dirs = rng.normal(size=(settings.lights, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    out: list[Light] = []
+    if settings.light_kind in ("directional", "both"):
+        out += [DirectionalLight(d) for d in dirs]
+    if settings.light_kind in ("point", "both"):
+        radius = LIGHT_DISTANCE * max(mesh.bounding_radius, 1e-12)
+        out += [PointLight(mesh.centre + radius * d) for d in dirs]
+    return out
+
+
+def shape_kind(mesh: Mesh) -> str:
+    """``closed`` (no boundary edge), ``flat`` (open, every vertex in one plane) or ``open``."""
+    if mesh.is_closed:
+        return "closed"
+    centred = mesh.vertices - mesh.vertices.mean(axis=0)
+    s = np.linalg.svd(centred, compute_uv=False) if mesh.n_vertices > 2 else np.zeros(3)
+    return "flat" if s[-1] <= FLAT_RELATIVE * max(s[0], np.finfo(float).tiny) else "open"
+
+
+def mesh_record(mesh: Mesh) -> dict:
+    """The per-mesh statistics the corpus reports, from :func:`silcount.mesh.stats.mesh_statistics`."""
+    stats = mesh_statistics(mesh)
+    polys = stats["coplanar"]["polygons"]
+    return {
+        "vertices": stats["vertices"],
+        "faces": stats["faces"],
+        "edges": stats["edges"],
+        "closed": bool(stats["closed"]),
+        "kind": shape_kind(mesh),
+        "boundary_edges": stats["boundary_edges"],
+        "nonmanifold_edges": stats["nonmanifold_edges"],
+        "mean_sides": float(stats["mean_sides"]),
+        "coplanar_polygons": int(polys),
+        "merge_ratio": stats["faces"] / polys,
+    }
+
+
+def light_record(light: Light) -> dict:
+    if isinstance(light, DirectionalLight):
+        return {
+            "light_kind": "directional",
+            "light_x": light.direction[0],
+            "light_y": light.direction[1],
+            "light_z": light.direction[2],
+        }
+    return {
+        "light_kind": "point",
+        "light_x": light.position[0],
+        "light_y": light.position[1],
+        "light_z": light.position[2],
+    }
+
+
+def run_record(mesh: Mesh, light: Light, name: str, variant: str, settings: Settings) -> dict:
+    """One detector under one light: edges, agreement with the reference, tallies and cycles per model."""
+    res = detect(mesh, light, name, variant=variant, engine=settings.engine)
+    profiles = builtin_profiles()
+    out: dict[str, int | float] = {
+        "silhouette_edges": res.n_edges,
+        "missed_edges": int(res.notes.get("missed_edges", 0)),
+        "extra_edges": int(res.notes.get("extra_edges", 0)),
+    }
+    for model, tally in sorted(res.tally.items()):
+        counts = {k: int(tally.get(k, 0)) for k in KINDS}
+        out.update({f"{model}_{k}": v for k, v in counts.items()})
+        out[f"{model}_total"] = int(sum(counts.values()))
+        for p in settings.profiles:
+            out[f"{model}_cycles_{p}"] = float(profiles[p].cycles(dict(tally)))
+    return out
+
+
+@cache
+def _warm_up() -> None:
+    """Compile (or load from numba's cache) every plain kernel once per process, outside the timings."""
+    from silcount.detectors.plain import PLAIN, plain_edge_ids
+    from silcount.mesh.shapes import icosphere
+
+    mesh = icosphere(1)
+    for light in (DirectionalLight((0.3, 0.5, 0.8)), PointLight((3.0, 2.0, 5.0))):
+        for name in PLAIN:
+            plain_edge_ids(mesh, light, name)
+
+
+def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple[dict[str, float | None], list[str]]:
+    """Mean seconds per light of each detector's plain loops (``None`` past the limits; see the docstring),
+    and the timings that failed (``None`` too, named)."""
+    from silcount.detectors.plain import PLAIN, plain_edge_ids
+
+    out: dict[str, float | None] = {}
+    errors: list[str] = []
+    sample = lights[: max(settings.time_lights, 1)]
+    for name in settings.detectors:
+        cost = mesh.n_edges * mesh.n_faces if name in QUADRATIC else mesh.n_faces
+        limit = settings.time_max_pairs if name in QUADRATIC else settings.time_max_faces
+        if not settings.timing or name not in PLAIN or cost > limit:
+            out[name] = None
+            continue
+        _warm_up()
+        t0 = time.perf_counter()
+        try:
+            for light in sample:
+                plain_edge_ids(mesh, light, name)
+        except ZeroDivisionError:  # plain EESD's inlined ray test divides by a zero determinant (grazing ray)
+            out[name] = None
+            errors.append(f"{name}: ZeroDivisionError in the plain loops")
+            continue
+        out[name] = (time.perf_counter() - t0) / len(sample)
+    return out, errors
+
+
+def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> dict:
+    from silcount.corpus.subdivide import subdivide
+
+    mesh = subdivide(mesh, level)
+    record = mesh_record(mesh)
+    silhouettes = np.array([silhouette_edge_ids(mesh, light).size for light in lights], dtype=np.float64)
+    record["lights"] = len(lights)
+    record["silhouette_edges_mean"] = float(silhouettes.mean())
+    record["silhouette_edges_std"] = float(silhouettes.std())
+    rows = []
+    for i, light in enumerate(lights):
+        for key, name, variant in settings.runs():
+            row = {"light": i, **light_record(light), "detector": key, "variant": variant}
+            row["reference_edges"] = int(silhouettes[i])
+            row.update(run_record(mesh, light, name, variant, settings))
+            rows.append(row)
+    record["time_per_light_s"], record["time_errors"] = time_per_light(mesh, lights, settings)
+    return {"mesh": record, "rows": rows}
+
+
+def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
+    """Audit one file's bytes at one subdivision level; ``{"mesh", "rows", "error"}``, never raising for bad input.
+
+    ``label`` is the file's name in the sweep (its suffix picks the loader; it
+    replaces the temporary path in error messages).
+    """
+    sha = hashlib.sha256(data).hexdigest()
+    try:
+        with tempfile.TemporaryDirectory(prefix="silcount-corpus-") as tmp:
+            path = Path(tmp) / Path(label).name
+            path.write_bytes(data)
+            try:
+                source = load_mesh(path)
+            except SilcountError as exc:
+                raise type(exc)(str(exc).replace(str(path), label)) from None
+        result = _audit(source, level, mesh_lights(source, settings, sha), settings)
+        result["error"] = None
+    except Exception as exc:  # recorded as this mesh's error row, never dropped: the sweep goes on
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        error = text if isinstance(exc, SilcountError) else f"{type(exc).__name__}: {text}"
+        result = {"mesh": {}, "rows": [], "error": error}
+    result["sha256"] = sha
+    result["level"] = level
+    return result

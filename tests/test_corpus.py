@@ -1,0 +1,226 @@
+"""`silcount corpus`: subdivision, lights, fits, error rows, the cache, the JSON schema, the CLI (in-process).
+
+Expected values come from hand counts (subdivision sizes, a doubled
+silhouette), from a synthetic power law (fits) and from a second run of the
+same sweep (cache, scheduler).  The real-cluster test is ``test_corpus_cluster.py``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from silcount.corpus import corpus, find_files
+from silcount.corpus import schedule as schedule_mod
+from silcount.corpus.fits import power_fit
+from silcount.corpus.subdivide import faces_after, subdivide
+from silcount.corpus.work import Settings, mesh_lights, shape_kind
+from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.mesh.lights import DirectionalLight, PointLight
+from silcount.mesh.model import from_polygons
+from silcount.mesh.shapes import icosphere, plane, quad_cube
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "schemas" / "corpus.schema.json"
+SMALL = dict(lights=3, timing=False, quiet=True, scheduler="threads", workers=1)
+
+
+@pytest.fixture
+def folder(tmp_path) -> Path:
+    d = tmp_path / "meshes"
+    (d / "sub").mkdir(parents=True)
+    for name in ("tetrahedron.obj", "quad_cube.obj", "icosphere1.obj"):
+        shutil.copy(DATA / name, d / name)
+    shutil.copy(DATA / "plane.obj", d / "sub" / "plane.obj")
+    (d / "notes.txt").write_text("not a mesh, not swept")
+    return d
+
+
+def prism(n: int = 5):
+    """A closed n-gonal prism: two n-gon caps and n quads, outward wound."""
+    ang = 2 * np.pi * np.arange(n) / n
+    verts = [(np.cos(a), np.sin(a), z) for z in (0.0, 1.0) for a in ang]
+    bottom, top = list(range(n))[::-1], list(range(n, 2 * n))
+    sides = [[i, (i + 1) % n, n + (i + 1) % n, n + i] for i in range(n)]
+    return from_polygons(verts, [bottom, top, *sides])
+
+
+# ---- subdivision -----------------------------------------------------------------------------
+def test_triangle_subdivision_sizes_by_hand():
+    m = icosphere(1)  # V 42, F 80, E 120
+    s = subdivide(m, 1)
+    assert (s.n_vertices, s.n_faces, s.n_edges) == (42 + 120, 4 * 80, 2 * 120 + 3 * 80)
+    assert s.is_closed and s.is_consistently_wound and s.mean_sides == 3.0
+    assert faces_after(m, 2) == subdivide(m, 2).n_faces == 16 * 80
+
+
+def test_polygons_become_quads():
+    cube = subdivide(quad_cube(), 1)  # each quad -> 4 quads around its centre
+    assert (cube.n_faces, cube.n_vertices, cube.mean_sides) == (24, 8 + 12 + 6, 4.0)
+    p = prism(5)  # 2 pentagons -> 5 quads each, 5 quads -> 4 each
+    s = subdivide(p, 1)
+    assert s.n_faces == faces_after(p, 1) == 2 * 5 + 5 * 4 and s.mean_sides == 4.0
+    assert s.is_closed and s.is_consistently_wound and s.nonmanifold_edges.size == 0
+
+
+def test_flat_subdivision_exactly_doubles_the_silhouette():
+    """No point moves, so the new edges join coplanar faces: each silhouette edge splits in two."""
+    for mesh in (icosphere(2), prism(7)):
+        for light in (DirectionalLight((0.31, 0.52, 0.79)), PointLight((2.9, -3.3, 4.1))):
+            n0 = silhouette_edge_ids(mesh, light).size
+            assert silhouette_edge_ids(subdivide(mesh, 1), light).size == 2 * n0 > 0
+
+
+def test_shape_kinds():
+    assert shape_kind(icosphere(1)) == "closed"
+    assert shape_kind(plane()) == "flat"
+    bent = from_polygons([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 1)], [[0, 1, 2], [1, 3, 2]])
+    assert shape_kind(bent) == "open"
+
+
+# ---- lights ----------------------------------------------------------------------------------
+def test_lights_depend_on_seed_and_bytes_only():
+    mesh = icosphere(1)
+    sha_a, sha_b = hashlib.sha256(b"a").hexdigest(), hashlib.sha256(b"b").hexdigest()
+    s = Settings(lights=5, light_kind="both")
+    a1, a2 = mesh_lights(mesh, s, sha_a), mesh_lights(mesh, s, sha_a)
+    assert a1 == a2 and len(a1) == 10
+    assert a1 != mesh_lights(mesh, s, sha_b)
+    assert a1 != mesh_lights(mesh, Settings(lights=5, light_kind="both", seed=1), sha_a)
+    dirs = np.array([light.direction for light in a1[:5]])
+    assert np.allclose(np.linalg.norm(dirs, axis=1), 1.0)
+    pos = np.array([light.position for light in a1[5:]])
+    assert np.allclose(np.linalg.norm(pos - mesh.centre, axis=1), 3.0 * mesh.bounding_radius)
+    assert np.allclose((pos - mesh.centre) / (3.0 * mesh.bounding_radius), dirs)  # the same directions, paired
+
+
+# ---- fits ------------------------------------------------------------------------------------
+def test_fit_recovers_a_known_exponent_and_its_interval_covers_it():
+    """Synthetic ``0.7 F^0.8``, log-normal scatter: estimates near 0.8, the 95% interval covers it ~95% of the time."""
+    covered, estimates = 0, []
+    for seed in range(100):
+        rng = np.random.default_rng(seed)
+        faces = np.exp(rng.uniform(np.log(50), np.log(2e6), 40))
+        values = 0.7 * faces**0.8 * np.exp(rng.normal(0.0, 0.3, faces.size))
+        fit = power_fit(faces, values)
+        lo, hi = fit["alpha_ci"]
+        covered += lo < 0.8 < hi
+        estimates.append(fit["alpha"])
+        assert fit["meshes"] == 40 and lo < fit["alpha"] < hi
+    assert abs(np.mean(estimates) - 0.8) < 0.005 and 88 <= covered <= 99
+    exact = power_fit([10, 100, 1000], [3 * 10**0.5, 3 * 100**0.5, 3 * 1000**0.5])
+    assert exact["alpha"] == pytest.approx(0.5, abs=1e-12) and exact["c"] == pytest.approx(3.0, rel=1e-12)
+    assert power_fit([10, 10], [1, 2])["alpha"] is None
+    assert power_fit([10, 20, 30], [0, 5, 6])["meshes"] == 2  # a zero cannot be on a log scale
+
+
+# ---- the sweep -------------------------------------------------------------------------------
+def test_sweep_tables_and_schema(folder):
+    import jsonschema
+
+    result = corpus([folder], subdivide=(0, 1), cache=False, **SMALL)
+    assert [label for label, _ in find_files([folder])] == [
+        "icosphere1.obj",
+        "quad_cube.obj",
+        "sub/plane.obj",
+        "tetrahedron.obj",
+    ]
+    m = result.meshes
+    assert list(zip(m["file"], m["level"])) == [(f, lv) for f in sorted(set(m["file"])) for lv in (0, 1)]
+    assert result.failed == 0 and len(result.rows) == 8 * 3 * 5
+    cube = m[(m["file"] == "quad_cube.obj")].set_index("level")
+    assert cube.loc[0, "faces"] == 6 and cube.loc[1, "faces"] == 24 and cube.loc[1, "coplanar_polygons"] == 6
+    assert (cube["silhouette_edges_mean"].iloc[1] == 2 * cube["silhouette_edges_mean"].iloc[0]).all()
+    assert (result.rows["missed_edges"] == 0).all() and (result.rows["extra_edges"] == 0).all()
+    assert {"silhouette_edges", "silhouette_edges:closed", "silhouette_edges:level0", "ta:true"} <= set(result.fits)
+    jsonschema.validate(result.document, json.loads(SCHEMA.read_text()))
+
+
+def test_broken_file_is_an_error_row_and_the_sweep_goes_on(folder):
+    (folder / "broken.obj").write_text("v 0 0 0\nf 1 2 3\n")
+    (folder / "empty.off").write_bytes(b"")
+    result = corpus([folder], cache=False, **SMALL)
+    errors = result.meshes.set_index("file")["error"]
+    assert errors["broken.obj"].startswith("broken.obj: ") and "\n" not in errors["broken.obj"]
+    assert "empty" in errors["empty.off"] and errors["quad_cube.obj"] == ""
+    assert result.failed == 2 and set(result.rows["file"]) == {
+        "icosphere1.obj",
+        "quad_cube.obj",
+        "sub/plane.obj",
+        "tetrahedron.obj",
+    }
+
+
+class Interrupted(Exception):
+    pass
+
+
+def test_an_interrupted_sweep_resumes_from_the_cache(folder, tmp_path, monkeypatch):
+    cache = tmp_path / "cache"
+    reference = corpus([folder], cache=False, **SMALL).document
+    real = schedule_mod.audit_task
+    calls: list[str] = []
+
+    def dies_on_the_third(label, *args):
+        if len(calls) == 2:
+            raise Interrupted(label)
+        calls.append(label)
+        return real(label, *args)
+
+    monkeypatch.setattr(schedule_mod, "audit_task", dies_on_the_third)
+    with pytest.raises(Interrupted):
+        corpus([folder], cache=cache, **SMALL)
+    assert len(list(cache.glob("*.json"))) == 2
+    calls.clear()
+    monkeypatch.setattr(schedule_mod, "audit_task", lambda label, *a: calls.append(label) or real(label, *a))
+    resumed = corpus([folder], cache=cache, **SMALL).document
+    assert len(calls) == 2 and resumed == reference  # only the unfinished meshes ran
+    calls.clear()
+    assert corpus([folder], cache=cache, **SMALL).document == reference and calls == []
+    changed = corpus([folder], cache=cache, **{**SMALL, "lights": 4}).document
+    assert len(calls) == 4 and changed["settings"]["lights"] == 4  # other settings, other entries
+
+
+def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
+    from silcount.cli.main import main
+
+    out = tmp_path / "out"
+    args = ["corpus", str(folder), "--lights", "2", "--no-time", "--no-cache", "--scheduler", "threads"]
+    assert main([*args, "--out", str(out), "--format", "md", "--quiet"]) == 0
+    assert "## Fits" in capsys.readouterr().out
+    names = {p.name for p in out.iterdir()}
+    assert {
+        "corpus.parquet",
+        "meshes.csv",
+        "fits.json",
+        "summary.md",
+        "silhouette.png",
+        "silhouette.svg",
+        "operations.png",
+        "hsd_merge.svg",
+    } <= names
+    import pandas as pd
+
+    assert len(pd.read_parquet(out / "corpus.parquet")) == 4 * 2 * 5
+    first = (out / "silhouette.svg").read_bytes()
+    (folder / "broken.obj").write_text("f 1 2 3\n")
+    assert main([*args, "--format", "json", "--quiet"]) == 1  # a mesh failed
+    assert json.loads(capsys.readouterr().out)["meshes"][0]["file"] == "broken.obj"
+    (folder / "broken.obj").unlink()
+    assert main([*args, "--out", str(out), "--quiet"]) == 0
+    assert (out / "silhouette.svg").read_bytes() == first  # byte-identical figures
+    assert main(["corpus", str(tmp_path / "nothing"), "--no-cache"]) == 3
+    assert main([*args, "--detectors", "ta,bogus"]) == 2
+
+
+def test_report_skips_without_a_corpus(monkeypatch, tmp_path, capsys):
+    from silcount.cli import corpus as cli
+
+    monkeypatch.setattr(cli, "corpus_dir", lambda: None)
+    assert cli.report(tmp_path) == []
+    assert "skipped" in capsys.readouterr().out
