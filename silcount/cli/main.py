@@ -23,7 +23,7 @@ import argparse
 import sys
 from types import ModuleType
 
-from silcount.cli import audit, claims, compare, figures, render, report, tables
+from silcount.cli import audit, calibrate, claims, compare, figures, render, report, tables
 from silcount.errors import SilcountError
 
 COMMANDS: dict[str, ModuleType] = {
@@ -34,6 +34,7 @@ COMMANDS: dict[str, ModuleType] = {
     "figures": figures,
     "render": render,
     "compare": compare,
+    "calibrate": calibrate,
 }
 
 

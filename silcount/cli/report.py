@@ -17,7 +17,7 @@ from pathlib import Path
 
 from silcount.audit.formats import render, write_atomic
 from silcount.audit.run import AuditSettings, random_lights, run_audit
-from silcount.cli import claims, figures, tables
+from silcount.cli import calibrate, claims, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
 from silcount.detectors import DETECTORS
@@ -25,7 +25,13 @@ from silcount.errors import BadArgument
 from silcount.mesh import shapes
 
 HELP = "regenerate everything under reports/ (claims, tables, figures, renders, audits) from built-in data"
-PARTS = (("claims", claims.report), ("tables", tables.report), ("figures", figures.report), ("render", renders.report))
+PARTS = (
+    ("claims", claims.report),
+    ("tables", tables.report),
+    ("figures", figures.report),
+    ("render", renders.report),
+    ("calibrate", calibrate.report),
+)
 # icosphere5 (20,480 faces) is left out: EESD's literal variant costs O(E x F) even in the fast engine
 # (about six minutes for 16 lights on this machine); the size sweeps cover it.
 REPORT_MESHES = tuple(name for name in shapes.BUILTIN if name != "icosphere5")

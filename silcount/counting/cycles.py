@@ -118,20 +118,27 @@ def measured_profiles() -> dict[str, Profile]:
     """The profiles of every ``models/cycles/measured-<machine>.toml`` (nanoseconds per operation)."""
     out = {}
     for path in sorted(cycles_dir().glob("measured-*.toml")):
-        data = _read(path)
-        base = f"{data['name']}-measured"
-        for prof in (
-            _table(f"{base}-latency", data, "latency", path, "ns"),
-            _table(f"{base}-throughput", data, "rthroughput", path, "ns"),
-            _table(f"{base}-latency-dram", data, "latency", path, "ns", read_key="read_dram"),
-        ):
-            out[prof.name] = prof
+        out |= measured_file_profiles(path)
     return out
+
+
+def measured_file_profiles(path: Path) -> dict[str, Profile]:
+    """``<name>-measured-latency``, ``-throughput`` (reads from L1) and ``-latency-dram`` of one measured file."""
+    data = _read(path)
+    base = f"{data['name']}-measured"
+    profs = (
+        _table(f"{base}-latency", data, "latency", path, "ns"),
+        _table(f"{base}-throughput", data, "rthroughput", path, "ns"),
+        _table(f"{base}-latency-dram", data, "latency", path, "ns", read_key="read_dram"),
+    )
+    return {p.name: p for p in profs}
 
 
 def builtin_profiles() -> dict[str, Profile]:
     """Every built-in profile by name: paper, unit, the llvm-mca ones, the measured ones."""
-    unit = Profile("unit", {k: 1.0 for k in TRUE_KINDS}, "every operation 1", {k: "1 by definition" for k in TRUE_KINDS})
+    unit = Profile(
+        "unit", {k: 1.0 for k in TRUE_KINDS}, "every operation 1", {k: "1 by definition" for k in TRUE_KINDS}
+    )
     return {"paper": paper_profile(), "unit": unit, **mca_profiles(), **measured_profiles()}
 
 
