@@ -5,7 +5,8 @@
   file under ``--corpus``), predicts each time as tally x profile with one
   scale per (cost model, profile), and writes the tables (md, csv, json), the
   figures and the raw ``timings.csv`` under ``DIR``;
-* ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh;
+* ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh (on the
+  meshes it times, with its number of lights);
 * ``--measure`` runs the micro-benchmarks instead and writes
   ``measured-<cpu model>.toml`` (to ``--out``, default ``models/cycles/``).
 
@@ -47,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from silcount.calibrate.measure import cpu_model_name, measure
     from silcount.calibrate.run import calibrate, read_timings
     from silcount.counting.cycles import builtin_profiles, cycles_dir, load_profile
-    from silcount.errors import BadArgument
+    from silcount.errors import BadArgument, UnreadableInput
 
     if args.lights < 1 or args.repeats < 1:
         raise BadArgument("--lights and --repeats must be at least 1")
@@ -64,13 +65,18 @@ def run(args: argparse.Namespace) -> int:
             raise BadArgument(f"--corpus {args.corpus}: not a directory")
         meshes += timing.corpus_meshes(args.corpus)
     show = False if args.quiet else None
+    n_lights = args.lights
     if args.timings is not None:
         times = read_timings(args.timings)
+        meshes = [(group, mesh) for group, mesh in meshes if mesh.name in set(times["mesh"])]
+        if not meshes:
+            raise UnreadableInput(f"timings {args.timings} time none of the meshes")
+        n_lights = int(times["light"].max()) + 1
         cpu, source, live = str(times["cpu_model"].iloc[0]), str(args.timings), False
     else:
-        times = timing.timings(meshes, args.lights, args.repeats, show)
+        times = timing.timings(meshes, n_lights, args.repeats, show)
         cpu, source, live = cpu_model_name(), "measured in this run", True
-    cal = calibrate(meshes, times, cpu, source, profiles, args.lights, show)
+    cal = calibrate(meshes, times, cpu, source, profiles, n_lights, show)
     for path in formats.write(cal, args.out or Path("calibrate"), with_timings=live):
         print(path)
     return 0

@@ -116,7 +116,7 @@ def mca_profiles() -> dict[str, Profile]:
 
 def measured_profiles() -> dict[str, Profile]:
     """The profiles of every ``models/cycles/measured-<machine>.toml`` (nanoseconds per operation)."""
-    out = {}
+    out: dict[str, Profile] = {}
     for path in sorted(cycles_dir().glob("measured-*.toml")):
         out |= measured_file_profiles(path)
     return out
