@@ -51,12 +51,17 @@ def series_meshes() -> list[tuple[str, Mesh]]:
 
 
 def corpus_meshes(root: Path) -> list[tuple[str, Mesh]]:
-    """Every mesh file under ``root`` that :func:`silcount.mesh.io.load_mesh` reads (sorted by path)."""
+    """Every mesh file under ``root`` (sorted by path), loaded by :func:`silcount.mesh.io.load_mesh`, named by its path."""
     from silcount.mesh.io import load_mesh
 
     exts = {".obj", ".off", ".ply", ".stl", ".glb", ".gltf"}
     files = sorted(p for p in root.rglob("*") if p.suffix.lower() in exts and p.is_file())
-    return [("corpus", load_mesh(p)) for p in files]
+    out = []
+    for path in files:
+        mesh = load_mesh(path)
+        mesh.name = path.relative_to(root).as_posix()  # file names, not stems: cylinder.obj and cylinder.stl differ
+        out.append(("corpus", mesh))
+    return out
 
 
 def _best(fn, repeats: int) -> float:

@@ -2,7 +2,7 @@
 
 * ``silcount calibrate [--corpus PATH] [--out DIR]`` times each algorithm's
   compiled uncounted loops per light on the icosphere series (and every mesh
-  file under ``--corpus``), predicts each time as tally x profile with one
+  file under ``--corpus`` of at most ``--max-faces`` faces), predicts each time as tally x profile with one
   scale per (cost model, profile), and writes the tables (md, csv, json), the
   figures and the raw ``timings.csv`` under ``DIR``;
 * ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh (on the
@@ -17,6 +17,7 @@ committed timings (``models/cycles/timings-*.csv``) on the icosphere series.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 HELP = "do the counts predict time? time the algorithms' compiled loops and predict them from tally x cycle profile"
@@ -25,6 +26,13 @@ HELP = "do the counts predict time? time the algorithms' compiled loops and pred
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, metavar="DIR", help="output directory (default: calibrate/)")
     parser.add_argument("--corpus", type=Path, metavar="PATH", help="also time every mesh file under PATH")
+    parser.add_argument(
+        "--max-faces",
+        type=int,
+        default=5000,
+        metavar="N",
+        help="skip corpus meshes of more than N faces (VnV and EESD cost O(E F); default 5000)",
+    )
     parser.add_argument("--timings", type=Path, metavar="FILE", help="use this timings.csv instead of timing")
     parser.add_argument(
         "--profile", action="append", default=[], metavar="TOML", help="also predict with this cycle profile file"
@@ -63,7 +71,11 @@ def run(args: argparse.Namespace) -> int:
     if args.corpus is not None:
         if not args.corpus.is_dir():
             raise BadArgument(f"--corpus {args.corpus}: not a directory")
-        meshes += timing.corpus_meshes(args.corpus)
+        for group, mesh in timing.corpus_meshes(args.corpus):
+            if mesh.n_faces <= args.max_faces:
+                meshes.append((group, mesh))
+            else:
+                print(f"skipped {mesh.name}: {mesh.n_faces} faces > --max-faces {args.max_faces}", file=sys.stderr)
     show = False if args.quiet else None
     n_lights = args.lights
     if args.timings is not None:
