@@ -93,17 +93,34 @@ def calibrate(
     )
 
 
-def from_committed(show: bool | None = False) -> Calibration:
-    """The calibration of the committed timings on the icosphere series."""
+def from_committed(corpus: Path | None = None, show: bool | None = False) -> Calibration:
+    """The calibration of the committed timings on the icosphere series, or on the corpus under ``corpus``.
+
+    With ``corpus``, the meshes are the corpus files the committed timings time (by path); a
+    timed file missing from ``corpus`` fails, naming it.
+    """
     path = committed_timings()
     if path is None:
         raise UnreadableInput(f"no committed timings (timings-*.csv) under {cycles_dir()}")
     times = read_timings(path)
-    series = set(timing.SERIES)
-    times = times[times["mesh"].isin(series)]
+    if corpus is None:
+        meshes = timing.series_meshes()
+    else:
+        from silcount.mesh.io import load_mesh
+
+        meshes = []
+        for name in sorted(set(times["mesh"]) - set(timing.SERIES)):
+            if not (corpus / name).is_file():
+                raise UnreadableInput(f"committed timings time {name}, which is not under {corpus}")
+            mesh = load_mesh(corpus / name)
+            mesh.name = name
+            meshes.append(("corpus", mesh))
+    times = times[times["mesh"].isin({m.name for _, m in meshes})]
+    if not len(times):
+        raise UnreadableInput(f"committed timings {path.name} time none of these meshes")
     n_lights = int(times["light"].max()) + 1
     cpu = str(times["cpu_model"].iloc[0])
-    return calibrate(timing.series_meshes(), times, cpu, f"models/cycles/{path.name}", n_lights=n_lights, show=show)
+    return calibrate(meshes, times, cpu, f"models/cycles/{path.name}", n_lights=n_lights, show=show)
 
 
 def ranking_evidence(cal: Calibration | None = None) -> dict:

@@ -51,7 +51,7 @@ def series_meshes() -> list[tuple[str, Mesh]]:
 
 
 def corpus_meshes(root: Path) -> list[tuple[str, Mesh]]:
-    """Every mesh file under ``root`` (sorted by path), loaded by :func:`silcount.mesh.io.load_mesh`, named by its path."""
+    """Every mesh file under ``root`` (sorted), loaded by :func:`silcount.mesh.io.load_mesh`, named by its path."""
     from silcount.mesh.io import load_mesh
 
     exts = {".obj", ".off", ".ply", ".stl", ".glb", ".gltf"}

@@ -11,7 +11,10 @@
   ``measured-<cpu model>.toml`` (to ``--out``, default ``models/cycles/``).
 
 ``silcount report`` writes the deterministic part (:func:`report`): the
-committed timings (``models/cycles/timings-*.csv``) on the icosphere series.
+committed timings (``models/cycles/timings-*.csv``) on the icosphere series,
+and on the corpus when ``$SILCOUNT_CORPUS_DIR`` is set.  To refresh them, run
+``silcount calibrate [--corpus DIR] --out DIR`` and copy ``DIR/timings.csv``
+over the committed file.
 """
 
 from __future__ import annotations
@@ -44,11 +47,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def report(out_dir: Path) -> list[Path]:
-    """The calibration of the committed timings on the icosphere series, under ``out_dir/calibrate/``."""
-    from silcount.calibrate import formats
-    from silcount.calibrate.run import from_committed
+    """The committed timings on the icosphere series under ``out_dir/calibrate/``; on the corpus too
+    (``out_dir/calibrate/corpus/``) when ``$SILCOUNT_CORPUS_DIR`` is set and the timings time corpus files."""
+    import os
 
-    return formats.write(from_committed(), out_dir / "calibrate")
+    from silcount.calibrate import formats, timing
+    from silcount.calibrate.run import committed_timings, from_committed, read_timings
+
+    paths = formats.write(from_committed(), out_dir / "calibrate")
+    corpus = os.environ.get("SILCOUNT_CORPUS_DIR")
+    timed = committed_timings()
+    if corpus and timed is not None and set(read_timings(timed)["mesh"]) - set(timing.SERIES):
+        paths += formats.write(from_committed(Path(corpus)), out_dir / "calibrate" / "corpus")
+    return paths
 
 
 def run(args: argparse.Namespace) -> int:
