@@ -157,7 +157,7 @@ def test_frame_and_findings(all_claims):
 
 def test_user_cycle_profile(tmp_path, capsys):
     prof = tmp_path / "mine.toml"
-    prof.write_text('name = "mine"\n[weights]\nadd = 1\nmul = 1\ncmp = 1\nread = 100\nwrite = 100\n')
+    prof.write_text('name = "mine"\n[weights]\nadd = 1\nmul = 1\ncmp = 1\nread = 100\nwrite = 100\ndiv = 1\nsqrt = 1\n')
     assert main(["claims", "--format", "text", "--cycles", str(prof)]) == 0
     assert "mine: " in capsys.readouterr().out
     assert main(["claims", "--cycles", str(tmp_path / "missing.toml")]) == 2

@@ -23,7 +23,7 @@ import argparse
 import sys
 from types import ModuleType
 
-from silcount.cli import audit, claims, compare, corpus, figures, render, report, tables
+from silcount.cli import audit, calibrate, claims, compare, corpus, figures, render, report, tables
 from silcount.errors import SilcountError
 
 COMMANDS: dict[str, ModuleType] = {
@@ -35,6 +35,7 @@ COMMANDS: dict[str, ModuleType] = {
     "render": render,
     "compare": compare,
     "corpus": corpus,
+    "calibrate": calibrate,
 }
 
 

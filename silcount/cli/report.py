@@ -17,7 +17,7 @@ from pathlib import Path
 
 from silcount.audit.formats import render, write_atomic
 from silcount.audit.run import AuditSettings, random_lights, run_audit
-from silcount.cli import claims, corpus, figures, tables
+from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
 from silcount.detectors import DETECTORS
@@ -31,6 +31,7 @@ PARTS = (
     ("figures", figures.report),
     ("render", renders.report),
     ("corpus", corpus.report),
+    ("calibrate", calibrate.report),
 )
 # icosphere5 (20,480 faces) is left out: EESD's literal variant costs O(E x F) even in the fast engine
 # (about six minutes for 16 lights on this machine); the size sweeps cover it.

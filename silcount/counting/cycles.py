@@ -1,73 +1,162 @@
-"""Cycle profiles: one weight per operation kind, to turn tallies into cycles.
+"""Cycle profiles: one weight per operation kind, each with its source, to turn tallies into cycles.
 
-Profiles (see ``models/cycles/`` and the EESD paper, Sec. 6):
+Every profile weighs every kind the ``true`` cost model counts
+(:data:`TRUE_KINDS`: the papers' five plus EESD's ``div`` and ``sqrt``); a
+profile lacking one is refused, naming the kind, and so is a tally holding a
+kind its profile does not weigh.  Built-in profiles (``models/cycles/``):
 
-* ``paper``: the printed weights, "Mults 4 cycles, Adds 2 cycles, Compares 3
-  cycles, Reads 1 cycle and Writes 2 cycles" (``models/eesd2012-paper.toml``);
+* ``paper``: the EESD paper's printed weights (Sec. 6: "Mults 4 cycles, Adds 2
+  cycles, Compares 3 cycles, Reads 1 cycle and Writes 2 cycles",
+  ``models/eesd2012-paper.toml``).  The paper gives no weight for a division
+  or a square root; a weight of 0 would let EESD's divisions and roots cost
+  nothing, and refusing them would leave EESD's ``true`` tally without a
+  paper-weighted total.  So ``div`` and ``sqrt`` get a labelled *extension*
+  (``models/cycles/paper-extension.toml``): the paper's ``mul`` weight times
+  the smallest divsd/mulsd (sqrtsd/mulsd) latency ratio among the llvm-mca
+  profiles, i.e. the cheapest division any of LLVM's CPU models allows,
+  relative to the paper's own multiply.  Its source says "extension, not in
+  the paper" wherever it is shown;
 * ``unit``: every operation costs 1 (a plain operation count);
-* ``skylake-latency`` and ``skylake-throughput``: scalar double-precision
-  latency and reciprocal throughput on Intel Skylake, each value cited in
-  ``models/cycles/skylake.toml``;
-* a user's own TOML file: ``[weights]`` with ``add, mul, cmp, read, write``
-  (and optionally ``name``).
+* ``<cpu>-latency`` and ``<cpu>-throughput`` for each
+  ``models/cycles/<cpu>-llvm-mca.toml``: llvm-mca's latency and reciprocal
+  throughput of the scalar SSE2 instruction behind each kind
+  (:mod:`silcount.calibrate.mca`, ``scripts/make_cycle_profiles.py``).  These
+  replace the former ``skylake.toml``, whose values were cited from memory:
+  llvm-mca 14 agrees on add, mul (4, 0.5) and the load (5, 0.5) and store
+  throughput (1), but gives ucomisd latency 2 and throughput 1 (the file had
+  CMPSD's 4 and 0.5) and a store latency of 1 (the file had 4, a
+  store-forwarding delay, which is not the cost of a store);
+* ``<machine>-measured-latency`` / ``-throughput`` (and ``-latency-dram``) for
+  each ``models/cycles/measured-<machine>.toml`` written by ``silcount
+  calibrate --measure`` (:mod:`silcount.calibrate.measure`), in nanoseconds;
+* a user's own TOML file: ``[weights]`` with every kind of :data:`TRUE_KINDS`
+  (a number, or ``{value = ..., source = "..."}``) and optionally ``name``.
 """
 
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from silcount.counting import paper as models
 from silcount.counting.arithmetic import KINDS
 from silcount.errors import BadArgument, UnreadableInput
 
+TRUE_KINDS: tuple[str, ...] = (*KINDS, "div", "sqrt")
+"""Every kind the ``true`` cost model counts; every profile weighs each of them."""
+
 
 @dataclass(frozen=True)
 class Profile:
-    """Cycle weights per operation kind."""
+    """Weights per operation kind (cycles, or ``unit``), each with its source."""
 
     name: str
     weights: dict[str, float]
     source: str
+    sources: dict[str, str] = field(default_factory=dict)
+    unit: str = "cycles"
+
+    def __post_init__(self) -> None:
+        missing = [k for k in TRUE_KINDS if k not in self.weights]
+        if missing:
+            raise BadArgument(f"cycle profile {self.name} lacks a weight for {', '.join(missing)}")
 
     def cycles(self, tally: dict[str, float]) -> float:
-        """Cycle-weighted total of a tally (kinds without a weight cost nothing, e.g. ``div``)."""
-        return sum(self.weights.get(k, 0) * v for k, v in tally.items())
+        """Weighted total of a tally; a kind counted but not weighed fails, naming it."""
+        unweighed = sorted(k for k, v in tally.items() if v and k not in self.weights)
+        if unweighed:
+            raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
+        return sum(self.weights[k] * v for k, v in tally.items() if v)
 
 
-def _microarch(name: str, table: str) -> Profile:
-    data = models.load(f"cycles/{name}")
-    weights = {k: float(v["value"]) for k, v in data[table].items()}
-    return Profile(f"{name}-{table}", weights, "; ".join(sorted({v["source"] for v in data[table].values()})))
+def cycles_dir() -> Path:
+    return models.models_dir() / "cycles"
+
+
+def _read(path: Path) -> dict:
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise UnreadableInput(f"cannot read cycle profile {path}: {exc}") from exc
+
+
+def paper_profile() -> Profile:
+    """The EESD paper's five printed weights plus the labelled div/sqrt extension."""
+    printed = models.load("eesd2012-paper")["cycle_weights"]
+    ext = _read(cycles_dir() / "paper-extension.toml")["weights"]
+    weights = {k: float(printed[k]) for k in KINDS} | {k: float(ext[k]["value"]) for k in ("div", "sqrt")}
+    sources = {k: f"EESD paper Sec. {printed['section']}" for k in KINDS}
+    sources |= {k: f"extension, not in the paper: {ext[k]['source']}" for k in ("div", "sqrt")}
+    return Profile("paper", weights, f"EESD paper Sec. {printed['section']} (div, sqrt: extension)", sources)
+
+
+def _table(name: str, data: dict, table: str, path: Path, unit: str, read_key: str = "read") -> Profile:
+    rows = dict(data[table])
+    rows["read"] = rows[read_key]
+    weights = {k: float(rows[k]["value"]) for k in TRUE_KINDS if k in rows}
+    sources = {k: str(rows[k].get("instruction") or rows[k].get("method")) for k in TRUE_KINDS if k in rows}
+    return Profile(name, weights, f"{path.name} [{table}]", sources, unit)
+
+
+def mca_profiles() -> dict[str, Profile]:
+    """``<cpu>-latency`` and ``<cpu>-throughput`` from every ``models/cycles/<cpu>-llvm-mca.toml``."""
+    out = {}
+    for path in sorted(cycles_dir().glob("*-llvm-mca.toml")):
+        data = _read(path)
+        cpu = data["llvm_mcpu"]
+        for table, suffix in (("latency", "latency"), ("rthroughput", "throughput")):
+            prof = _table(f"{cpu}-{suffix}", data, table, path, "cycles")
+            out[prof.name] = Profile(
+                prof.name, prof.weights, f"llvm-mca {data['llvm_version']} -mcpu={cpu} {table}", prof.sources
+            )
+    return out
+
+
+def measured_profiles() -> dict[str, Profile]:
+    """The profiles of every ``models/cycles/measured-<machine>.toml`` (nanoseconds per operation)."""
+    out: dict[str, Profile] = {}
+    for path in sorted(cycles_dir().glob("measured-*.toml")):
+        out |= measured_file_profiles(path)
+    return out
+
+
+def measured_file_profiles(path: Path) -> dict[str, Profile]:
+    """``<name>-measured-latency``, ``-throughput`` (reads from L1) and ``-latency-dram`` of one measured file."""
+    data = _read(path)
+    base = f"{data['name']}-measured"
+    profs = (
+        _table(f"{base}-latency", data, "latency", path, "ns"),
+        _table(f"{base}-throughput", data, "rthroughput", path, "ns"),
+        _table(f"{base}-latency-dram", data, "latency", path, "ns", read_key="read_dram"),
+    )
+    return {p.name: p for p in profs}
 
 
 def builtin_profiles() -> dict[str, Profile]:
-    """Every built-in profile by name."""
-    paper = models.load("eesd2012-paper")["cycle_weights"]
-    return {
-        "paper": Profile("paper", {k: float(paper[k]) for k in KINDS}, f"EESD paper Sec. {paper['section']}"),
-        "unit": Profile("unit", {k: 1.0 for k in KINDS}, "every operation 1 cycle"),
-        "skylake-latency": _microarch("skylake", "latency"),
-        "skylake-throughput": _microarch("skylake", "rthroughput"),
-    }
+    """Every built-in profile by name: paper, unit, the llvm-mca ones, the measured ones."""
+    unit = Profile(
+        "unit", {k: 1.0 for k in TRUE_KINDS}, "every operation 1", {k: "1 by definition" for k in TRUE_KINDS}
+    )
+    return {"paper": paper_profile(), "unit": unit, **mca_profiles(), **measured_profiles()}
 
 
 def load_profile(spec: str) -> Profile:
-    """A built-in profile by name, or a user's TOML file path."""
+    """A built-in profile by name, or a user's TOML file path (``[weights]`` for every kind)."""
     profiles = builtin_profiles()
     if spec in profiles:
         return profiles[spec]
     path = Path(spec)
     if not path.exists():
         raise BadArgument(f"unknown cycle profile {spec!r}: not one of {', '.join(profiles)} and no such file")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise UnreadableInput(f"cannot read cycle profile {path}: {exc}") from exc
-    weights = data.get("weights", {})
-    missing = [k for k in KINDS if k not in weights]
+    data = _read(path)
+    raw = data.get("weights", {})
+    missing = [k for k in TRUE_KINDS if k not in raw]
     if missing:
-        raise BadArgument(f"cycle profile {path} lacks weights for {', '.join(missing)}")
-    return Profile(str(data.get("name", path.stem)), {k: float(v) for k, v in weights.items()}, str(path))
+        raise BadArgument(f"cycle profile {path} lacks a weight for {', '.join(missing)}")
+    weights, sources = {}, {}
+    for k, v in raw.items():
+        weights[k] = float(v["value"] if isinstance(v, dict) else v)
+        sources[k] = str(v.get("source", path)) if isinstance(v, dict) else str(path)
+    return Profile(str(data.get("name", path.stem)), weights, str(path), sources)

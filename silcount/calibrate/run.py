@@ -1,0 +1,170 @@
+"""The calibration as one computation: timings + tallies -> predictions, summaries, FPS table, ranking evidence.
+
+Timing is noisy, so what is committed is a *measurement*: the timings of one
+run (``models/cycles/timings-<cpu model>.csv``, written by ``silcount calibrate
+--out DIR`` as ``DIR/timings.csv`` and copied there by hand).  The report of
+``silcount report`` (:func:`silcount.cli.calibrate.report`) recomputes the
+tallies from the code and the predictions from that file, so it is the same
+bytes on every run; a live ``silcount calibrate`` times afresh.
+
+Two fits are reported: over every sample, and over the meshes of at least
+:data:`LARGE_FACES` faces only (refitted), where the loops, not the set-up, take the time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from silcount.calibrate import fps, predict, timing
+from silcount.counting.cycles import Profile, builtin_profiles, cycles_dir
+from silcount.errors import UnreadableInput
+from silcount.mesh.model import Mesh
+
+LARGE_FACES = 320
+"""The second fit keeps meshes with at least this many faces (icosphere2 up): below it the per-call
+numpy set-up of :func:`~silcount.detectors.plain.plain_edge_ids` (facing flags, edge-id lookup, about
+0.1-0.2 ms) outweighs the loops, a fixed cost no per-operation weight can model."""
+
+
+@dataclass
+class Calibration:
+    """Everything ``silcount calibrate`` reports."""
+
+    cpu_model: str
+    timings_source: str
+    samples: pd.DataFrame
+    predictions: pd.DataFrame
+    per_mesh: pd.DataFrame
+    summary: pd.DataFrame
+    summary_large: pd.DataFrame
+    fps: pd.DataFrame
+
+
+def committed_timings() -> Path | None:
+    """The committed timings file (the first ``models/cycles/timings-*.csv``), or None."""
+    found = sorted(cycles_dir().glob("timings-*.csv"))
+    return found[0] if found else None
+
+
+def read_timings(path: Path) -> pd.DataFrame:
+    try:
+        frame = pd.read_csv(path)
+    except (OSError, ValueError) as exc:
+        raise UnreadableInput(f"cannot read timings {path}: {exc}") from exc
+    missing = {"cpu_model", *timing.KEY, "seconds"} - set(frame.columns)
+    if missing:
+        raise UnreadableInput(f"timings {path} lack columns {', '.join(sorted(missing))}")
+    return frame
+
+
+def calibrate(
+    meshes: list[tuple[str, Mesh]],
+    times: pd.DataFrame,
+    cpu_model: str,
+    source: str,
+    profiles: dict[str, Profile] | None = None,
+    n_lights: int = timing.LIGHTS,
+    show: bool | None = False,
+) -> Calibration:
+    """Predict ``times`` (one row per mesh, detector, light) from the tallies of ``meshes`` under every profile."""
+    profiles = builtin_profiles() if profiles is None else profiles
+    samples = timing.samples(timing.tallies(meshes, n_lights, show), times)
+    pred = predict.weighted(samples, profiles)
+    meshes_table = predict.per_mesh(pred)
+    large = samples[samples["faces"] >= LARGE_FACES]
+    if len(large):
+        pred_large = predict.weighted(large, profiles)
+        summary_large = predict.summary(pred_large, predict.per_mesh(pred_large))
+    else:
+        summary_large = predict.summary(pred.iloc[:0], meshes_table.iloc[:0])
+    return Calibration(
+        cpu_model,
+        source,
+        samples,
+        pred,
+        meshes_table,
+        predict.summary(pred, meshes_table),
+        summary_large,
+        fps.fps_table(),
+    )
+
+
+def from_committed(corpus: Path | None = None, show: bool | None = False) -> Calibration:
+    """The calibration of the committed timings on the icosphere series, or on the corpus under ``corpus``.
+
+    With ``corpus``, the meshes are the corpus files the committed timings time (by path); a
+    timed file missing from ``corpus`` fails, naming it.
+    """
+    path = committed_timings()
+    if path is None:
+        raise UnreadableInput(f"no committed timings (timings-*.csv) under {cycles_dir()}")
+    times = read_timings(path)
+    if corpus is None:
+        meshes = timing.series_meshes()
+    else:
+        from silcount.mesh.io import load_mesh
+
+        meshes = []
+        for name in sorted(set(times["mesh"]) - set(timing.SERIES)):
+            if not (corpus / name).is_file():
+                raise UnreadableInput(f"committed timings time {name}, which is not under {corpus}")
+            mesh = load_mesh(corpus / name)
+            mesh.name = name
+            meshes.append(("corpus", mesh))
+    times = times[times["mesh"].isin({m.name for _, m in meshes})]
+    if not len(times):
+        raise UnreadableInput(f"committed timings {path.name} time none of these meshes")
+    n_lights = int(times["light"].max()) + 1
+    cpu = str(times["cpu_model"].iloc[0])
+    return calibrate(meshes, times, cpu, f"models/cycles/{path.name}", n_lights=n_lights, show=show)
+
+
+def ranking_evidence(cal: Calibration | None = None) -> dict:
+    """Per mesh: the measured fastest algorithm and order, and each (model, profile)'s predicted ones.
+
+    For the claims that rank algorithms by cycles (EESD fastest; TA and VnV
+    five and six times HSD; the FPS orders): ``measured`` gives the measured
+    seconds (summed over the lights) per algorithm, so a claim can say whether
+    measured time agrees with its ranking.  Built from the committed timings
+    unless ``cal`` is given.  ``summary`` (every mesh) and ``summary_large`` (meshes of at least
+    :data:`LARGE_FACES` faces) give per model and profile R^2, mean rank rho and on how many
+    meshes the predicted fastest is the measured fastest.
+    """
+    cal = from_committed() if cal is None else cal
+    out: dict = {"cpu_model": cal.cpu_model, "timings": cal.timings_source, "meshes": {}, "summary": {}}
+    sums = cal.samples.groupby(["mesh", "detector"])["seconds"].sum()
+    for mesh, sub in cal.per_mesh.groupby("mesh", sort=False):
+        first = sub.iloc[0]
+        entry = out["meshes"].setdefault(
+            mesh,
+            {
+                "faces": int(first["faces"]),
+                "measured_seconds": {d: float(s) for d, s in sums[mesh].items()},
+                "measured_order": first["measured_order"].split(" < "),
+                "measured_fastest": first["measured_order"].split(" < ")[0],
+                "predicted": {},
+            },
+        )
+        rec: dict[Any, Any]
+        for rec in sub.to_dict("records"):
+            order = str(rec["predicted_order"]).split(" < ")
+            entry["predicted"].setdefault(rec["model"], {})[rec["profile"]] = {
+                "order": order,
+                "fastest": order[0],
+                "fastest_agrees": bool(rec["fastest_agrees"]),
+                "rank_rho": None if pd.isna(rec["rank_rho"]) else float(rec["rank_rho"]),
+            }
+    for key, table in (("summary", cal.summary), ("summary_large", cal.summary_large)):
+        out[key] = {}
+        for rec in table.to_dict("records"):
+            out[key].setdefault(rec["model"], {})[rec["profile"]] = {
+                "r2": float(rec["r2"]),
+                "rank_rho": float(rec["rank_rho"]),
+                "fastest_agree": int(rec["fastest_agree"]),
+                "meshes": int(rec["meshes"]),
+            }
+    return out

@@ -1,0 +1,105 @@
+"""`silcount calibrate`: do the counts predict time? (issue 14; :mod:`silcount.calibrate`).
+
+* ``silcount calibrate [--corpus PATH] [--out DIR]`` times each algorithm's
+  compiled uncounted loops per light on the icosphere series (and every mesh
+  file under ``--corpus`` of at most ``--max-faces`` faces), predicts each time as tally x profile with one
+  scale per (cost model, profile), and writes the tables (md, csv, json), the
+  figures and the raw ``timings.csv`` under ``DIR``;
+* ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh (on the
+  meshes it times, with its number of lights);
+* ``--measure`` runs the micro-benchmarks instead and writes
+  ``measured-<cpu model>.toml`` (to ``--out``, default ``models/cycles/``).
+
+``silcount report`` writes the deterministic part (:func:`report`): the
+committed timings (``models/cycles/timings-*.csv``) on the icosphere series,
+and on the corpus when ``$SILCOUNT_CORPUS_DIR`` is set.  To refresh them, run
+``silcount calibrate [--corpus DIR] --out DIR`` and copy ``DIR/timings.csv``
+over the committed file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+HELP = "do the counts predict time? time the algorithms' compiled loops and predict them from tally x cycle profile"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--out", type=Path, metavar="DIR", help="output directory (default: calibrate/)")
+    parser.add_argument("--corpus", type=Path, metavar="PATH", help="also time every mesh file under PATH")
+    parser.add_argument(
+        "--max-faces",
+        type=int,
+        default=5000,
+        metavar="N",
+        help="skip corpus meshes of more than N faces (VnV and EESD cost O(E F); default 5000)",
+    )
+    parser.add_argument("--timings", type=Path, metavar="FILE", help="use this timings.csv instead of timing")
+    parser.add_argument(
+        "--profile", action="append", default=[], metavar="TOML", help="also predict with this cycle profile file"
+    )
+    parser.add_argument("--lights", type=int, default=4, metavar="N", help="point lights per mesh (default 4)")
+    parser.add_argument("--repeats", type=int, default=3, metavar="N", help="timed runs per sample, best kept")
+    parser.add_argument("--measure", action="store_true", help="measure this machine's profile instead")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def report(out_dir: Path) -> list[Path]:
+    """The committed timings on the icosphere series under ``out_dir/calibrate/``; on the corpus too
+    (``out_dir/calibrate/corpus/``) when ``$SILCOUNT_CORPUS_DIR`` is set and the timings time corpus files."""
+    import os
+
+    from silcount.calibrate import formats, timing
+    from silcount.calibrate.run import committed_timings, from_committed, read_timings
+
+    paths = formats.write(from_committed(), out_dir / "calibrate")
+    corpus = os.environ.get("SILCOUNT_CORPUS_DIR")
+    timed = committed_timings()
+    if corpus and timed is not None and set(read_timings(timed)["mesh"]) - set(timing.SERIES):
+        paths += formats.write(from_committed(Path(corpus)), out_dir / "calibrate" / "corpus")
+    return paths
+
+
+def run(args: argparse.Namespace) -> int:
+    from silcount.calibrate import formats, timing
+    from silcount.calibrate.measure import cpu_model_name, measure
+    from silcount.calibrate.run import calibrate, read_timings
+    from silcount.counting.cycles import builtin_profiles, cycles_dir, load_profile
+    from silcount.errors import BadArgument, UnreadableInput
+
+    if args.lights < 1 or args.repeats < 1:
+        raise BadArgument("--lights and --repeats must be at least 1")
+    if args.measure:
+        print(measure(args.out or cycles_dir()))
+        return 0
+    profiles = builtin_profiles()
+    for spec in args.profile:
+        prof = load_profile(spec)
+        profiles[prof.name] = prof
+    meshes = timing.series_meshes()
+    if args.corpus is not None:
+        if not args.corpus.is_dir():
+            raise BadArgument(f"--corpus {args.corpus}: not a directory")
+        for group, mesh in timing.corpus_meshes(args.corpus):
+            if mesh.n_faces <= args.max_faces:
+                meshes.append((group, mesh))
+            else:
+                print(f"skipped {mesh.name}: {mesh.n_faces} faces > --max-faces {args.max_faces}", file=sys.stderr)
+    show = False if args.quiet else None
+    n_lights = args.lights
+    if args.timings is not None:
+        times = read_timings(args.timings)
+        meshes = [(group, mesh) for group, mesh in meshes if mesh.name in set(times["mesh"])]
+        if not meshes:
+            raise UnreadableInput(f"timings {args.timings} time none of the meshes")
+        n_lights = int(times["light"].max()) + 1
+        cpu, source, live = str(times["cpu_model"].iloc[0]), str(args.timings), False
+    else:
+        times = timing.timings(meshes, n_lights, args.repeats, show)
+        cpu, source, live = cpu_model_name(), "measured in this run", True
+    cal = calibrate(meshes, times, cpu, source, profiles, n_lights, show)
+    for path in formats.write(cal, args.out or Path("calibrate"), with_timings=live):
+        print(path)
+    return 0

@@ -1,0 +1,156 @@
+"""silcount calibrate: the fit, the rank statistics, the FPS table, the outputs (structure, never timing values)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import jsonschema
+import numpy as np
+import pandas as pd
+import pytest
+
+from silcount.calibrate import formats, fps, measure, predict, timing
+from silcount.calibrate.run import calibrate, from_committed, ranking_evidence
+from silcount.cli.main import main
+from silcount.counting.cycles import TRUE_KINDS, Profile, measured_file_profiles
+from silcount.errors import UnreadableInput
+from silcount.mesh.shapes import builtin_mesh
+
+SCHEMA = json.loads((Path(__file__).resolve().parent.parent / "docs/schemas/calibrate.schema.json").read_text())
+
+
+def _samples(seconds_of) -> pd.DataFrame:
+    """Two meshes x two detectors x one light; tallies chosen by hand, seconds from ``seconds_of(row)``."""
+    rows = []
+    for mesh, faces, k in (("m1", 20, 1), ("m2", 80, 4)):
+        for det, adds in (("ta", 10 * k), ("vnv", 30 * k)):
+            row = {"group": "icosphere", "mesh": mesh, "faces": faces, "edges": 30, "detector": det, "light": 0}
+            for model in timing.MODELS:
+                row |= {f"{model}_{kind}": 0 for kind in TRUE_KINDS}
+                row[f"{model}_add"] = adds
+                row[f"{model}_div"] = 1
+            rows.append(row)
+    frame = pd.DataFrame(rows)
+    frame["seconds"] = [seconds_of(r) for r in frame.to_dict("records")]
+    return frame
+
+
+UNIT = {"unit": Profile("unit", {k: 1.0 for k in TRUE_KINDS}, "test")}
+
+
+def test_exact_proportional_times_fit_perfectly():
+    # weighted = adds + 1 (div) with unit weights; seconds = 3e-9 x weighted exactly
+    s = _samples(lambda r: 3e-9 * (r["true_add"] + 1))
+    pred = predict.weighted(s, UNIT)
+    meshes = predict.per_mesh(pred)
+    summ = predict.summary(pred, meshes)
+    row = summ[summ["model"] == "true"].iloc[0]
+    assert row["scale"] == pytest.approx(3e-9)
+    assert row["r2"] == pytest.approx(1.0)
+    assert row["median_ratio"] == pytest.approx(1.0) and row["worst_ratio"] == pytest.approx(1.0)
+    assert row["fastest_agree"] == 2 and row["meshes"] == 2 and row["rank_rho"] == pytest.approx(1.0)
+
+
+def test_reversed_order_is_caught():
+    # vnv measured faster than ta although it counts 3x the operations
+    s = _samples(lambda r: 1e-6 / (r["true_add"] + 1))
+    pred = predict.weighted(s, UNIT)
+    meshes = predict.per_mesh(pred)
+    summ = predict.summary(pred, meshes)
+    row = summ[summ["model"] == "true"].iloc[0]
+    assert row["fastest_agree"] == 0 and row["rank_rho"] == pytest.approx(-1.0)
+    assert row["r2"] < 0  # worse than the mean: the weighted count anti-predicts
+    m1 = meshes[(meshes["model"] == "true") & (meshes["mesh"] == "m1")].iloc[0]
+    assert m1["measured_order"] == "vnv < ta" and m1["predicted_order"] == "ta < vnv"
+    # worst ratio by hand: log s = mean(log t - log w); t = 1e-6 / w
+    w = np.array([11, 31, 41, 121], float)
+    scale = np.exp(np.mean(np.log(1e-6 / w) - np.log(w)))
+    ratios = scale * w / (1e-6 / w)
+    assert row["worst_ratio"] == pytest.approx(ratios[np.argmax(np.abs(np.log(ratios)))])
+
+
+def test_fps_table_by_hand():
+    t = fps.fps_table()
+    assert len(t) == 8 and set(t["algorithm"]) == {"ta", "vnv", "eesd", "hsd"}
+    row = t[(t["algorithm"] == "eesd") & (t["reading"] == "e_n = 6n")].iloc[0]
+    # EESD's printed form (18n^2+18n)M+(18n^2+36n)A+6n^2C+12nR+12nW with M4 A2 C3 R1 W2 = 126 n^2 + 180 n
+    n = 2207 / 6
+    assert row["paper_cycles"] == pytest.approx(126 * n**2 + 180 * n)
+    assert row["detect_ms"] == pytest.approx(1e3 * (126 * n**2 + 180 * n) / 2.8e9)
+    assert row["frame_ms"] == pytest.approx(1000 / 73.16)
+    assert bool(row["fits"]) == (row["detect_ms"] < row["frame_ms"])
+
+
+def test_measure_smoke_structure(tmp_path):
+    raw = measure.raw_timings(n=200, repeats=1, dram_bytes=1 << 16)
+    assert all(v > 0 for v in raw.values())
+    values = measure.profile_values(raw)
+    assert set(values["latency"]) == set(TRUE_KINDS) | {"read_dram"}
+    path = tmp_path / "measured-x.toml"
+    path.write_text(measure.render_toml("Test CPU 1", raw, 200, 1, 1 << 16))
+    profs = measured_file_profiles(path)
+    assert set(profs) == {f"test-cpu-1-measured-{s}" for s in ("latency", "throughput", "latency-dram")}
+    assert measure.slug("AMD EPYC 7B13 64-Core Processor") == "amd-epyc-7b13-64-core-processor"
+
+
+def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
+    meshes = [("icosphere", builtin_mesh("icosphere0")), ("icosphere", builtin_mesh("icosphere1"))]
+    times = timing.timings(meshes, n_lights=1, repeats=1)
+    assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 8
+    cal = calibrate(meshes, times, "test", "test", n_lights=1)
+    paths = formats.write(cal, tmp_path, with_timings=True, figures=False)
+    names = {p.name for p in paths}
+    assert {"calibrate.md", "calibrate.csv", "calibrate.json", "calibrate_large.csv", "timings.csv"} <= names
+    doc = json.loads((tmp_path / "calibrate.json").read_text())
+    jsonschema.validate(doc, SCHEMA)
+    csv = pd.read_csv(tmp_path / "calibrate.csv")
+    assert list(csv.columns) == list(cal.summary.columns) and len(csv) == len(cal.summary)
+    assert doc["summary_large"] == []  # icosphere0 and 1 are below LARGE_FACES
+
+
+def test_cli_reuses_a_timings_file(tmp_path):
+    meshes = timing.series_meshes()[:1]
+    times = timing.timings(meshes, n_lights=2, repeats=1)
+    with pytest.raises(UnreadableInput, match="no timing for icosphere1"):
+        calibrate(timing.series_meshes()[:2], times, "test", "t", n_lights=2)
+    times.insert(0, "cpu_model", "test")
+    (tmp_path / "t.csv").write_text(times.to_csv(index=False))
+    assert main(["calibrate", "--timings", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    doc = json.loads((tmp_path / "o" / "calibrate.json").read_text())
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["samples"] == 8 and doc["timings"] == str(tmp_path / "t.csv") and doc["cpu_model"] == "test"
+    assert (tmp_path / "o" / "calibrate_true.png").stat().st_size > 0
+    assert not (tmp_path / "o" / "timings.csv").exists()
+    (tmp_path / "bad.csv").write_text("mesh,seconds\nicosphere0,1\n")
+    assert main(["calibrate", "--timings", str(tmp_path / "bad.csv"), "--out", str(tmp_path / "p")]) == 3
+
+
+@pytest.fixture(scope="module")
+def committed():
+    return from_committed()
+
+
+def test_committed_report_validates_and_is_deterministic(committed, tmp_path):
+    again = from_committed()
+    assert formats.to_json(again) == formats.to_json(committed)
+    assert formats.to_markdown(again) == formats.to_markdown(committed)
+    a = formats.figure(committed, "true", tmp_path / "a.png").read_bytes()
+    assert formats.figure(again, "true", tmp_path / "b.png").read_bytes() == a
+    doc = json.loads(formats.to_json(committed))
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["samples"] == len(timing.SERIES) * len(timing.ALGORITHMS) * timing.LIGHTS
+    assert {r["profile"] for r in doc["summary"]} >= {"paper", "unit", "skylake-latency", "znver3-throughput"}
+    assert {r["model"] for r in doc["summary_large"]} == {"paper", "true"}
+
+
+def test_ranking_evidence(committed):
+    ev = ranking_evidence(committed)
+    assert set(ev["meshes"]) == set(timing.SERIES)
+    for entry in ev["meshes"].values():
+        assert sorted(entry["measured_order"]) == sorted(timing.ALGORITHMS)
+        assert entry["measured_fastest"] == min(entry["measured_seconds"], key=entry["measured_seconds"].get)
+        for model in ("paper", "true"):
+            for verdict in entry["predicted"][model].values():
+                assert verdict["fastest_agrees"] == (verdict["fastest"] == entry["measured_fastest"])
+    assert ev["summary"]["true"]["paper"]["meshes"] == len(timing.SERIES)
