@@ -11,6 +11,12 @@ coordinate difference is exact (one component), the products stay short.
 The sign of an expansion is the sign of its last (largest) component; an
 empty expansion is zero.
 
+When every coordinate difference is exact, ``orient3d`` sums its six triple
+products (four doubles each, by ``two_product``) exactly with ``msum``
+partials, and ``n_f . n_g`` is first decided by a float filter with a static
+error bound (about 90 ulps of the sum of products' magnitudes, over ten times
+the worst rounding), the full expansions only when the filter cannot decide.
+
 Used by :mod:`silcount.mesh.coplanar` for the exact ``orient3d == 0`` and
 ``n_f . n_g > 0`` tests of the ``tight`` merge.  The arithmetic is exact as
 long as no intermediate overflows or underflows: :func:`exact_range_ok`
@@ -223,6 +229,53 @@ def _sign(w, row, n):  # pragma: no cover - compiled
     return 1 if w[row, n - 1] > 0.0 else -1
 
 
+@nb.njit(cache=True, inline="always")
+def _grow(parts, n, x):  # pragma: no cover - compiled
+    """Add double ``x`` to the expansion ``parts[:n]`` exactly (msum / grow_expansion_zeroelim); new length."""
+    k = 0
+    for i in range(n):
+        y = parts[i]
+        if abs(x) < abs(y):
+            x, y = y, x
+        hi = x + y
+        lo = y - (hi - x)
+        if lo != 0.0:
+            parts[k] = lo
+            k += 1
+        x = hi
+    if x != 0.0:
+        parts[k] = x
+        k += 1
+    return k
+
+
+@nb.njit(cache=True, inline="always")
+def _grow_product3(parts, n, a, b, c):  # pragma: no cover - compiled
+    """Add ``a * b * c`` exactly: ``a b = x + y`` (two_product), then ``x c`` and ``y c`` (two_product each)."""
+    x, y = _two_product(a, b)
+    x1, x0 = _two_product(x, c)
+    y1, y0 = _two_product(y, c)
+    n = _grow(parts, n, x0)
+    n = _grow(parts, n, y0)
+    n = _grow(parts, n, y1)
+    return _grow(parts, n, x1)
+
+
+@nb.njit(cache=True)
+def orient3d_sign_exact_diffs(ad, bd, cd, parts):  # pragma: no cover - compiled
+    """Exact sign of ``det[ad, bd, cd]`` for differences that are exact doubles: six triple products
+    (four doubles each) summed exactly; ``parts`` scratch of 32."""
+    n = _grow_product3(parts, 0, ad[2], bd[0], cd[1])
+    n = _grow_product3(parts, n, -ad[2], cd[0], bd[1])
+    n = _grow_product3(parts, n, bd[2], cd[0], ad[1])
+    n = _grow_product3(parts, n, -bd[2], ad[0], cd[1])
+    n = _grow_product3(parts, n, cd[2], ad[0], bd[1])
+    n = _grow_product3(parts, n, -cd[2], bd[0], ad[1])
+    if n == 0:
+        return 0
+    return 1 if parts[n - 1] > 0.0 else -1
+
+
 @nb.njit(cache=True)
 def orient3d_sign(V, ia, ib, ic, id_, w, lens):  # pragma: no cover - compiled
     """Exact sign of ``det[a - d, b - d, c - d]`` for rows ``ia, ib, ic, id_`` of ``V``.
@@ -230,10 +283,16 @@ def orient3d_sign(V, ia, ib, ic, id_, w, lens):  # pragma: no cover - compiled
     ``w`` is scratch of shape (20, 512) float64, ``lens`` int64 scratch of 9.
     Rows 3..11 of ``w`` hold ``a - d``, ``b - d``, ``c - d`` (``lens[row - 3]``).
     """
+    exact = True
     for k in range(3):
         lens[k] = _diff_expansion(w, 3 + k, V[ia, k], V[id_, k])
         lens[3 + k] = _diff_expansion(w, 6 + k, V[ib, k], V[id_, k])
         lens[6 + k] = _diff_expansion(w, 9 + k, V[ic, k], V[id_, k])
+        exact = exact and lens[k] < 2 and lens[3 + k] < 2 and lens[6 + k] < 2
+    if exact:  # every difference is one double (or zero): the short path
+        for r in range(3, 12):
+            w[0, r] = w[r, 0] if lens[r - 3] else 0.0
+        return orient3d_sign_exact_diffs(w[0, 3:6], w[0, 6:9], w[0, 9:12], w[1])
     total = 0
     for t in range(3):
         # det = adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady)
@@ -251,17 +310,40 @@ def orient3d_sign(V, ia, ib, ic, id_, w, lens):  # pragma: no cover - compiled
     return _sign(w, 0, total)
 
 
+@nb.njit(cache=True, inline="always")
+def _minor(w, lens, a, b, c, d):  # pragma: no cover - compiled
+    """``x_a x_b - x_c x_d`` in floats and ``|x_a x_b| + |x_c x_d|`` for one-double rows (0 if empty)."""
+    xa = w[a, 0] if lens[a] else 0.0
+    xb = w[b, 0] if lens[b] else 0.0
+    xc = w[c, 0] if lens[c] else 0.0
+    xd = w[d, 0] if lens[d] else 0.0
+    return xa * xb - xc * xd, abs(xa * xb) + abs(xc * xd)
+
+
 @nb.njit(cache=True)
 def normals_dot_sign(V, p0, p1, p2, q0, q1, q2, w, lens):  # pragma: no cover - compiled
     """Exact sign of ``((p1 - p0) x (p2 - p0)) . ((q1 - q0) x (q2 - q0))`` for rows of ``V``.
 
     ``w`` scratch of shape (24, 2048) float64, ``lens`` int64 scratch of 18.
     """
+    exact = True
     for k in range(3):
         lens[k] = _diff_expansion(w, k, V[p1, k], V[p0, k])
         lens[3 + k] = _diff_expansion(w, 3 + k, V[p2, k], V[p0, k])
         lens[6 + k] = _diff_expansion(w, 6 + k, V[q1, k], V[q0, k])
         lens[9 + k] = _diff_expansion(w, 9 + k, V[q2, k], V[q0, k])
+        exact = exact and lens[k] < 2 and lens[3 + k] < 2 and lens[6 + k] < 2 and lens[9 + k] < 2
+    if exact:  # exact differences: a float filter first (error bound below), else the full expansions
+        dot, bound = 0.0, 0.0
+        for k in range(3):
+            i, j = (k + 1) % 3, (k + 2) % 3
+            nf, pf = _minor(w, lens, i, 3 + j, j, 3 + i)
+            ng, pg = _minor(w, lens, 6 + i, 9 + j, 6 + j, 9 + i)
+            dot += nf * ng
+            bound += pf * pg
+        # |dot - exact| <= (gamma_3 + 2 gamma_2)(1 + gamma_2)^2 sum P_f P_g ~ 7u sum P_f P_g; 1e-14 is ~90u
+        if abs(dot) > 1e-14 * bound:
+            return 1 if dot > 0.0 else -1
     for side in range(2):
         e1, e2 = 6 * side, 6 * side + 3
         for k in range(3):
