@@ -121,9 +121,13 @@ def _walk(planes, first, n, pts, centre, half, big, empty, size, out, count_only
                 x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
                 for j in range(n):
                     if alive & (np.uint64(1) << np.uint64(j)):
-                        if planes[first + j, 0] * x + planes[first + j, 1] * y + planes[first + j, 2] * z + planes[
-                            first + j, 3
-                        ] == 0.0:
+                        if (
+                            planes[first + j, 0] * x
+                            + planes[first + j, 1] * y
+                            + planes[first + j, 2] * z
+                            + planes[first + j, 3]
+                            == 0.0
+                        ):
                             if not count_only:
                                 out[found] = i
                             found += 1
