@@ -21,7 +21,7 @@ import weakref
 import numpy as np
 from numba import njit, prange
 
-from silcount.mesh.lights import Light
+from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
 _PRECOMPUTED: "weakref.WeakKeyDictionary[Mesh, tuple]" = weakref.WeakKeyDictionary()
@@ -172,8 +172,9 @@ def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> t
     p0, nrm = _precompute(mesh)[:2]
     if faces is not None:
         p0, nrm = p0[faces], nrm[faces]
-    src = light.direction if light.is_directional else light.position
-    flags, ties = _facing_kernel(p0, nrm, np.asarray(src, dtype=np.float64), bool(light.is_directional))
+    directional = isinstance(light, DirectionalLight)
+    src = light.direction if isinstance(light, DirectionalLight) else light.position
+    flags, ties = _facing_kernel(p0, nrm, np.asarray(src, dtype=np.float64), directional)
     return flags, int(ties)
 
 
@@ -213,8 +214,8 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
     out = []
     for lo in range(0, len(lights), BATCH):
         batch = lights[lo : lo + BATCH]
-        pos = np.array([L.direction if L.is_directional else L.position for L in batch], dtype=np.float64)
-        directional = np.array([bool(L.is_directional) for L in batch])
+        pos = np.array([L.direction if isinstance(L, DirectionalLight) else L.position for L in batch])
+        directional = np.array([isinstance(L, DirectionalLight) for L in batch])
         bits, ties = _facing_bits_kernel(p0, nrm, pos.reshape(-1, 3), directional)
         start, ids = _pair_bits_kernel(bits, pair_faces, len(batch))
         for j in range(len(batch)):
