@@ -17,7 +17,7 @@ uncounted, for timing).  :data:`REGISTRY` maps each name to its ``detect``.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 from silcount.detectors import eesd, hsd, reference, ta, vnv
 from silcount.detectors.base import ENGINES, VARIANTS, Silhouette
@@ -40,13 +40,34 @@ def detect(
     mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast"
 ) -> Silhouette:
     """Run detector ``name`` on ``mesh`` for ``light``; see :class:`Silhouette` for the result."""
+    _check(name, variant, engine)
+    return REGISTRY[name](mesh, light, variant=variant, engine=engine)
+
+
+def _check(name: str, variant: str, engine: str) -> None:
     if name not in DETECTORS:
         raise BadArgument(f"unknown detector {name!r}; choose from {', '.join(DETECTORS)}")
     if variant not in VARIANTS:
         raise BadArgument(f"unknown variant {variant!r}; choose from {', '.join(VARIANTS)}")
     if engine not in ENGINES:
         raise BadArgument(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
-    return REGISTRY[name](mesh, light, variant=variant, engine=engine)
 
 
-__all__ = ["DETECTORS", "REGISTRY", "detect", "Silhouette"]
+def detect_many(
+    mesh: Mesh, lights: Sequence[Light], name: str = "reference", variant: str = "intended", engine: str = "fast"
+) -> list[Silhouette]:
+    """:func:`detect` for each of ``lights``, identical results, in one pass where the algorithm allows.
+
+    The ``reference`` detector's ``fast`` engine packs 64 lights' facing flags
+    into one word per face and finds every light's silhouette in one XOR pass
+    over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`); the
+    others run per light.
+    """
+    _check(name, variant, engine)
+    lights = list(lights)
+    if name == "reference" and engine == "fast":
+        return reference.detect_many(mesh, lights, variant)
+    return [REGISTRY[name](mesh, light, variant=variant, engine=engine) for light in lights]
+
+
+__all__ = ["DETECTORS", "REGISTRY", "detect", "detect_many", "Silhouette"]

@@ -10,6 +10,7 @@ so the ``fast`` engines charge exactly what the ``naive`` ones execute.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cache, cached_property
 from typing import Any
@@ -28,29 +29,62 @@ ENGINES = ("fast", "naive")
 
 @dataclass
 class Silhouette:
-    """The result of one detector run for one light."""
+    """The result of one detector run for one light.
+
+    ``edges``, ``oriented`` and ``tally`` are computed on first access (a
+    query that only needs ``edge_ids`` pays for nothing else); the ``paper``
+    tally's per-step costs are evaluated once per (model, mesh parameters).
+    """
 
     detector: str
     variant: str
     engine: str
     edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
-    edges: np.ndarray  # (k, 2) welded vertex indices, rows sorted, rows in order
-    oriented: np.ndarray  # (k, 2) same edges, as traversed by their light-facing face
     steps: dict[str, int]  # how many times each named step ran
     true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
     paper_model: str  # the models/ file whose per-line costs give the ``paper`` cost model
     paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
     ties: int = 0  # faces whose facing value is exactly 0
     notes: dict[str, Any] = field(default_factory=dict)
+    mesh: Mesh | None = field(default=None, repr=False)  # the mesh the ids index
+    orient: Callable[[], np.ndarray] | None = field(default=None, repr=False)  # computes ``oriented``
+
+    @cached_property
+    def edges(self) -> np.ndarray:
+        """(k, 2) welded vertex indices, rows sorted, rows in order."""
+        assert self.mesh is not None
+        return self.mesh.edges[self.edge_ids]
+
+    @cached_property
+    def oriented(self) -> np.ndarray:
+        """(k, 2) the same edges, as traversed by their light-facing face."""
+        assert self.orient is not None
+        return self.orient()
 
     @cached_property
     def tally(self) -> dict[str, dict[str, int]]:
         """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access."""
-        return {"paper": models.paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
+        return {"paper": paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
 
     @property
     def n_edges(self) -> int:
         return int(self.edge_ids.size)
+
+
+@cache
+def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) -> tuple[tuple[str, int], ...]:
+    """The ``paper`` cost of one run of ``step`` at ``params`` (sympy runs once per key)."""
+    return tuple(models.paper_tally(model, {step: 1}, dict(params)).items())
+
+
+def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> dict[str, int]:
+    """:func:`silcount.counting.paper.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
+    key = tuple(sorted(params.items()))
+    total = {k: 0 for k in KINDS}
+    for step, count in steps.items():
+        for kind, unit in _unit_costs(model, key, step):
+            total[kind] = total.get(kind, 0) + int(count) * unit
+    return total
 
 
 class MeshMemory:
@@ -143,10 +177,14 @@ def oriented_edges(mesh: Mesh, edge_ids: np.ndarray, is_facing: np.ndarray) -> n
 
 
 def unique_ids(ids) -> np.ndarray:
-    """Sorted distinct int64 ids; by sorting (numpy 2.4's hash-based ``np.unique`` is ~20x slower on 1M ids)."""
-    s = np.sort(np.asarray(ids, dtype=np.int64).reshape(-1))
-    if s.size == 0:
+    """Sorted distinct int64 ids; by sorting (numpy 2.4's hash-based ``np.unique`` is ~20x slower on 1M ids).
+
+    Ids already strictly ascending come back as they are (one comparison pass).
+    """
+    s = np.asarray(ids, dtype=np.int64).reshape(-1)
+    if s.size < 2 or bool(np.all(s[1:] > s[:-1])):
         return s
+    s = np.sort(s)
     keep = np.empty(s.size, dtype=bool)
     keep[0] = True
     np.not_equal(s[1:], s[:-1], out=keep[1:])
@@ -163,11 +201,16 @@ def make_silhouette(
     steps: dict[str, int],
     true_tally: dict[str, int],
     ties: int,
-    is_facing: np.ndarray,
+    is_facing: np.ndarray | Callable[[], np.ndarray],
     paper_params: dict[str, float] | None = None,
     notes: dict[str, Any] | None = None,
+    orient: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> Silhouette:
-    """Assemble a :class:`Silhouette`: sorted unique edges, orientation, both cost models."""
+    """Assemble a :class:`Silhouette`: sorted unique edges, both cost models; ``edges`` and ``oriented`` lazily.
+
+    ``is_facing`` (or a function returning it) gives :func:`oriented_edges`
+    unless ``orient`` (called with the ascending ids) is given.
+    """
     ids = unique_ids(edge_ids)
     notes = dict(notes or {})
     if detector != "reference":
@@ -177,19 +220,25 @@ def make_silhouette(
         params.update(paper_params)
     true = {k: 0 for k in KINDS}
     true.update({k: int(v) for k, v in true_tally.items()})
+
+    def oriented() -> np.ndarray:
+        if orient is not None:
+            return orient(ids)
+        return oriented_edges(mesh, ids, is_facing() if callable(is_facing) else is_facing)
+
     return Silhouette(
         detector=detector,
         variant=variant,
         engine=engine,
         edge_ids=ids,
-        edges=mesh.edges[ids],
-        oriented=oriented_edges(mesh, ids, is_facing),
         steps={k: int(v) for k, v in steps.items()},
         true_tally=true,
         paper_model=models.DEFAULT_PAPER_MODEL[detector],
         paper_params=params,
         ties=ties,
         notes=notes,
+        mesh=mesh,
+        orient=oriented,
     )
 
 
@@ -216,6 +265,7 @@ __all__ = [
     "oriented_edges",
     "make_silhouette",
     "unique_ids",
+    "paper_tally",
     "VARIANTS",
     "ENGINES",
     "Num",

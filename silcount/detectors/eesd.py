@@ -45,9 +45,10 @@ Variants
 ``intended``
     ``Intersection(R, f)`` is a real ray-polygon test: Moller-Trumbore on the
     face's fan triangles ``(p0, p_k, p_k+1)`` (:mod:`silcount.mesh.raytrace`, tie
-    rule there; exact for convex polygons, as the papers' faces are), and the edge is added once, after the face loop, iff no face
-    is hit (a hit counter, as VnV's).  On convex meshes this is the reference
-    silhouette; on non-convex ones a silhouette edge whose ``P`` is hidden
+    rule there; exact for convex polygons, as the papers' faces are), and the
+    edge is added once, after the face loop, iff no face is hit (a hit
+    counter, as VnV's).  On convex meshes this is the reference silhouette;
+    on non-convex ones a silhouette edge whose ``P`` is hidden
     behind another part of the mesh is missed (a subset of the reference,
     ``notes['missed_edges']``).  On a closed mesh a line that passes through
     the solid meets its surface, so only the edges of the *outline* (the
@@ -84,6 +85,8 @@ routine is branch-free (all values computed, then a fixed number of
 compares), so its cost is a constant that the ``fast`` engine charges per run;
 square roots count as kind ``sqrt``, divisions as ``div``.
 
+The counted routines (``naive`` arithmetic, fixed costs) are in :mod:`.eesd_counted`.
+
 Engines
 -------
 ``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
@@ -96,124 +99,42 @@ mesh these are exactly the edges whose faces lie on one side as seen from
 the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
 the 1M-face subdivided bunny).  ``notes['rays_cast']`` (fast engine only).
 
-``literal``'s exact-zero plane tests are found by :func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
-points that each plane walks, pruning soundly), which tests only the points
-whose boxes the plane crosses: O(F sqrt(E)) rather than O(E F), about 200 s
+``literal``'s exact-zero plane tests are found by
+:func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
+points that the planes walk in packets, in parallel, pruning soundly), which
+tests only the points whose boxes the plane crosses: O(F sqrt(E)) rather than O(E F), about 200 s
 on the 1M-face subdivided bunny against an estimated 40 min for all pairs.
 """
 
 from __future__ import annotations
 
-import math
 import weakref
-from functools import cache
 
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, counted_face_normal, make_silhouette
+from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, make_silhouette, unique_ids
+from silcount.detectors.eesd_counted import (
+    ADD_COST,
+    CHECK_COST,
+    EPS,
+    FACE_READS,
+    HIT_COUNT_COST,
+    PAIR_LITERAL_COST,
+    TRIANGLE_READS,
+    counted_outward_point,
+    counted_plane,
+    counted_ray,
+    counted_triangle_hit,
+    routine_cost,
+)
 from silcount.detectors.onplane import zeros_per_point
 from silcount.mesh.lights import DirectionalLight, Light
-from silcount.mesh.model import Mesh, from_polygons
+from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer
 
 NAME = "eesd"
-EPS = 1e-6  # the outward offset, in edge lengths
-
-CHECK_COST = {"cmp": 1}  # hits == 0
-ADD_COST = {"write": 1}  # S[k] = edge
-HIT_COUNT_COST = {"add": 1}  # hits = hits + hit
-FACE_READS = 10  # face_start[f], [f+1]; p0 and p1: index and 3 coordinates each
-TRIANGLE_READS = 4  # the next corner: index and 3 coordinates
-PAIR_LITERAL_COST = {"read": 4, "mul": 3, "add": 3, "cmp": 1}  # a, b, c, d; aPx+bPy+cPz+d == 0
-
-
-# ---------------------------------------------------------------- counted routines (naive engine)
-
-
-def _sqrt(x: Num) -> Num:
-    x.counter["sqrt"] += 1
-    return Num(math.sqrt(x.value) if x.value >= 0 else math.nan, x.counter)
-
-
-def _div(a, b: Num) -> Num:
-    """IEEE division (inf/NaN instead of an exception), one ``div``."""
-    b.counter["div"] += 1
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return Num(float(np.float64(plain(a)) / np.float64(b.value)), b.counter)
-
-
-def counted_outward_point(v1, v2, c, light_vals, directional: bool) -> list[Num]:
-    """The ``extend`` step: ``P`` from the edge's vertices, the far corner ``c`` of f1 and the light."""
-    m = [(v1[k] + v2[k]) * 0.5 for k in range(3)]
-    e = [v2[k] - v1[k] for k in range(3)]
-    d = light_vals if directional else [m[k] - light_vals[k] for k in range(3)]
-    w = [d[1] * e[2] - d[2] * e[1], d[2] * e[0] - d[0] * e[2], d[0] * e[1] - d[1] * e[0]]
-    g = [c[k] - m[k] for k in range(3)]
-    side = g[0] * w[0] + g[1] * w[1] + g[2] * w[2]
-    sgn = -1.0 if side > 0.0 else 1.0
-    ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
-    ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-    scale = EPS * _sqrt(_div(ee, ww)) * sgn
-    return [m[k] + w[k] * scale for k in range(3)]
-
-
-def counted_ray(p, light_vals, directional: bool):
-    """The ``ray`` step: (origin, direction, t_min, t_max) of the ray through ``p``."""
-    if directional:
-        return p, light_vals, -math.inf, math.inf
-    return light_vals, [p[k] - light_vals[k] for k in range(3)], 0.0, math.inf
-
-
-def counted_triangle_hit(o, d, a, b, c, t_min: float, t_max: float) -> bool:
-    """Moller-Trumbore on counting arithmetic, in :mod:`silcount.mesh.raytrace`'s order; branch-free."""
-    e1 = [b[k] - a[k] for k in range(3)]
-    e2 = [c[k] - a[k] for k in range(3)]
-    p = [d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]]
-    det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2]
-    inv = _div(1.0, det)
-    s = [o[k] - a[k] for k in range(3)]
-    u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv
-    q = [s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]]
-    v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv
-    t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv
-    checks = [det != 0.0, u >= 0.0, v >= 0.0, u + v <= 1.0, t > t_min, t < t_max]
-    return all(checks)
-
-
-def counted_plane(mem: MeshMemory, f: int) -> list[Num]:
-    """The literal ``plane`` step: ``(a, b, c, d)`` of face ``f`` from its first three corners."""
-    p0, n = counted_face_normal(mem, f)
-    return n + [0.0 - (n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2])]
-
-
-@cache
-def _routine_costs(directional: bool) -> dict[str, tuple[tuple[str, int], ...]]:
-    """The fixed ``true`` cost of each counted routine, measured by running it once."""
-    out = {}
-    counter = OpCounter()
-    nums = lambda xs: [Num(float(x), counter) for x in xs]  # noqa: E731
-    light_vals = nums([0.0, 0.0, 1.0] if directional else [0.0, 0.0, 5.0])
-    counted_outward_point(nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]), light_vals, directional)
-    out["extend"], counter = tuple(sorted(counter.items())), OpCounter()
-    light_vals = nums([0.0, 0.0, 1.0] if directional else [0.0, 0.0, 5.0])
-    o, d, lo, hi = counted_ray(nums([0.5, 0.5, 0.0]), light_vals, directional)
-    out["ray"], counter = tuple(sorted(counter.items())), OpCounter()
-    counted_triangle_hit(
-        nums([0.2, 0.2, 5]), nums([0, 0, -1]), nums([0, 0, 0]), nums([1, 0, 0]), nums([0, 1, 0]), lo, hi
-    )
-    out["triangle_test"], counter = tuple(sorted(counter.items())), OpCounter()
-    tri = from_polygons(np.eye(3), [[0, 1, 2]])
-    counted_plane(MeshMemory(tri, DirectionalLight((0, 0, 1)), counter), 0)
-    out["plane"] = tuple(sorted(counter.items()))
-    return out
-
-
-def routine_cost(name: str, light: Light) -> dict[str, int]:
-    """``true`` cost of one run of ``extend``, ``ray``, ``triangle_test`` or ``plane`` for this kind of light."""
-    return dict(_routine_costs(isinstance(light, DirectionalLight))[name])
-
 
 # ---------------------------------------------------------------- mesh data
 
@@ -435,7 +356,7 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     else:
         ids, steps, true, notes = _fast_intended(mesh, light)
     flags, ties = facing_flags(mesh, light)
-    unique = np.unique(ids)
+    unique = unique_ids(ids)
     if variant == "literal":
         notes["S_length"] = steps["add"]
         notes["duplicates_in_S"] = steps["add"] - int(unique.size)

@@ -5,6 +5,10 @@ compared exactly with zero, for every edge point and every face plane.  To
 count the pairs that test true without evaluating ``E x F`` of them, the
 points go into a bounding-box tree (Morton order, 16 points per leaf) and
 each plane walks it, pruning every box on which the test cannot return zero.
+Planes walk in packets of :data:`PACKET` consecutive ones (one traversal,
+each stack entry carrying the bit mask of the planes still alive in it), the
+packets in parallel (numba ``prange``): every plane makes exactly the prune
+decisions and point tests of a walk of its own, so the counts are the same.
 
 Soundness: the test computes ``s = ((a x + b y) + c z)`` in floats, then
 ``s + d``, which is exactly zero iff ``s == -d``.  The rounding error of
@@ -23,6 +27,7 @@ import numba as nb
 import numpy as np
 
 LEAF = 16
+PACKET = 32  # planes walked together (consecutive faces: neighbours on most meshes)
 _SLACK = 1e-14
 
 
@@ -56,60 +61,106 @@ def _boxes(pts, n_leaves, size):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def _walk(plane, pts, lo, hi, size, n_leaves, out, count_only):  # pragma: no cover - compiled
-    a, b, c, d = plane[0], plane[1], plane[2], plane[3]
+def _node_data(lo, hi):  # pragma: no cover - compiled
+    """Per node: centre, half extent (``hi - centre``) and largest magnitude per axis; empty flag."""
+    n = lo.shape[0]
+    centre = np.empty((n, 3))
+    half = np.empty((n, 3))
+    big = np.empty((n, 3))
+    empty = np.empty(n, dtype=np.bool_)
+    for node in range(n):
+        empty[node] = lo[node, 0] > hi[node, 0]
+        for k in range(3):
+            c = 0.5 * (lo[node, k] + hi[node, k])
+            centre[node, k] = c
+            half[node, k] = hi[node, k] - c
+            big[node, k] = max(abs(lo[node, k]), abs(hi[node, k]))
+    return centre, half, big, empty
+
+
+@nb.njit(cache=True)
+def _walk(planes, first, n, pts, centre, half, big, empty, size, out, count_only):  # pragma: no cover - compiled
+    """Walk the tree with the packet of planes ``first .. first + n - 1`` (n <= 64) at once.
+
+    Each stack entry carries the planes still alive in it (a bit mask): a plane
+    leaves a node's subtree when its own prune test (the single-plane test of
+    the module docstring, unchanged) rejects the node; a node is skipped when no
+    plane is left.  Returns how many (point, plane) zeros were found; unless
+    ``count_only``, writes each zero's point position to ``out``.
+    """
     stack = np.empty(64, dtype=np.int64)
+    masks = np.empty(64, dtype=np.uint64)
     stack[0] = 1
+    masks[0] = (np.uint64(1) << np.uint64(n)) - np.uint64(1) if n < 64 else ~np.uint64(0)
     top, found = 1, 0
     while top > 0:
         top -= 1
         node = stack[top]
-        if lo[node, 0] > hi[node, 0]:
+        mask = masks[top]
+        if empty[node]:
             continue  # an empty padding node
-        cx, cy, cz = (
-            0.5 * (lo[node, 0] + hi[node, 0]),
-            0.5 * (lo[node, 1] + hi[node, 1]),
-            0.5 * (lo[node, 2] + hi[node, 2]),
-        )
-        reach = abs(a) * (hi[node, 0] - cx) + abs(b) * (hi[node, 1] - cy) + abs(c) * (hi[node, 2] - cz)
-        big = (
-            abs(a) * max(abs(lo[node, 0]), abs(hi[node, 0]))
-            + abs(b) * max(abs(lo[node, 1]), abs(hi[node, 1]))
-            + abs(c) * max(abs(lo[node, 2]), abs(hi[node, 2]))
-            + abs(d)
-        )
-        centre = a * cx + b * cy + c * cz + d
-        if abs(centre) - reach > _SLACK * big + 1e-300:
+        cx, cy, cz = centre[node, 0], centre[node, 1], centre[node, 2]
+        hx, hy, hz = half[node, 0], half[node, 1], half[node, 2]
+        bx, by, bz = big[node, 0], big[node, 1], big[node, 2]
+        alive = np.uint64(0)
+        for j in range(n):
+            bit = np.uint64(1) << np.uint64(j)
+            if not (mask & bit):
+                continue
+            a, b, c, d = planes[first + j, 0], planes[first + j, 1], planes[first + j, 2], planes[first + j, 3]
+            reach = abs(a) * hx + abs(b) * hy + abs(c) * hz
+            bound = abs(a) * bx + abs(b) * by + abs(c) * bz + abs(d)
+            value = a * cx + b * cy + c * cz + d
+            if not (abs(value) - reach > _SLACK * bound + 1e-300):
+                alive |= bit
+        if alive == 0:
             continue
         if node >= size:
             leaf = node - size
             for i in range(leaf * LEAF, min((leaf + 1) * LEAF, pts.shape[0])):
-                if a * pts[i, 0] + b * pts[i, 1] + c * pts[i, 2] + d == 0.0:
-                    if not count_only:
-                        out[found] = i
-                    found += 1
+                x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
+                for j in range(n):
+                    if alive & (np.uint64(1) << np.uint64(j)):
+                        if (
+                            planes[first + j, 0] * x
+                            + planes[first + j, 1] * y
+                            + planes[first + j, 2] * z
+                            + planes[first + j, 3]
+                            == 0.0
+                        ):
+                            if not count_only:
+                                out[found] = i
+                            found += 1
         else:
             stack[top] = 2 * node
+            masks[top] = alive
             stack[top + 1] = 2 * node + 1
+            masks[top + 1] = alive
             top += 2
     return found
 
 
 @nb.njit(cache=True, parallel=True)
-def _search(planes, pts, lo, hi, size, n_leaves):  # pragma: no cover - compiled
+def _search(planes, pts, lo, hi, size):  # pragma: no cover - compiled
+    """Point positions of every zero, by packets of :data:`PACKET` consecutive planes, packets in parallel."""
     F = planes.shape[0]
-    counts = np.zeros(F, dtype=np.int64)
+    centre, half, big, empty = _node_data(lo, hi)
+    n_packets = (F + PACKET - 1) // PACKET
+    counts = np.zeros(n_packets, dtype=np.int64)
     dummy = np.empty(0, dtype=np.int64)
-    for f in nb.prange(F):
-        counts[f] = _walk(planes[f], pts, lo, hi, size, n_leaves, dummy, True)
-    start = np.zeros(F + 1, dtype=np.int64)
-    for f in range(F):
-        start[f + 1] = start[f] + counts[f]
-    hits = np.empty(start[F], dtype=np.int64)
-    for f in nb.prange(F):
-        if counts[f]:
-            _walk(planes[f], pts, lo, hi, size, n_leaves, hits[start[f] : start[f + 1]], False)
-    return start, hits
+    for k in nb.prange(n_packets):
+        first = k * PACKET
+        counts[k] = _walk(planes, first, min(PACKET, F - first), pts, centre, half, big, empty, size, dummy, True)
+    start = np.zeros(n_packets + 1, dtype=np.int64)
+    for k in range(n_packets):
+        start[k + 1] = start[k] + counts[k]
+    hits = np.empty(start[n_packets], dtype=np.int64)
+    for k in nb.prange(n_packets):
+        if counts[k]:
+            first = k * PACKET
+            n = min(PACKET, F - first)
+            _walk(planes, first, n, pts, centre, half, big, empty, size, hits[start[k] : start[k + 1]], False)
+    return hits
 
 
 def zeros_per_point(points: np.ndarray, planes: np.ndarray) -> np.ndarray:
@@ -127,7 +178,7 @@ def zeros_per_point(points: np.ndarray, planes: np.ndarray) -> np.ndarray:
     n_leaves = -(-len(pts) // LEAF)
     size = 1 << max(0, int(np.ceil(np.log2(n_leaves))))
     lo, hi = _boxes(pts, n_leaves, size)
-    _, hits = _search(np.ascontiguousarray(planes, dtype=np.float64), pts, lo, hi, size, n_leaves)
+    hits = _search(np.ascontiguousarray(planes, dtype=np.float64), pts, lo, hi, size)
     np.add.at(out, order[hits], 1)
     return out
 

@@ -185,11 +185,21 @@ def finish(
     notes = dict(notes or {})
     notes["S_length"] = int(ids.size)
     notes["duplicates_in_S"] = int(ids.size - unique.size)
-    res = make_silhouette(
-        mesh, light, detector, variant, engine, unique, steps, true, ties, flags, paper_params=paper_params, notes=notes
+    return make_silhouette(
+        mesh,
+        light,
+        detector,
+        variant,
+        engine,
+        unique,
+        steps,
+        true,
+        ties,
+        flags,
+        paper_params=paper_params,
+        notes=notes,
+        orient=lambda u: first_orientation(ids, pairs, u),
     )
-    res.oriented = first_orientation(ids, pairs, unique)
-    return res
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:

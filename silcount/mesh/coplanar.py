@@ -55,10 +55,12 @@ from __future__ import annotations
 import weakref
 from dataclasses import dataclass, field
 
+import numba as nb
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from silcount.mesh.exact import exact_range_ok, normals_dot_sign, orient3d_sign
 from silcount.mesh.model import Mesh
 
 CRITERIA = ("tight", "facets")
@@ -198,6 +200,55 @@ def _cross(u, v):
     )
 
 
+def _normals_agree_ints(V, first3, faces, f, g, shift) -> np.ndarray:
+    """``n_f . n_g > 0`` exactly, on Python integers (coordinates outside the expansions' exact range)."""
+    used = _mask_ids(V.shape[0], first3[faces])
+    exact = np.empty((V.shape[0], 3), dtype=object)
+    exact[used] = _exact_ints(V[used], shift)
+    normals = np.empty((first3.shape[0], 3), dtype=object)
+    for lo in range(0, faces.size, _CHUNK):
+        part = faces[lo : lo + _CHUNK]
+        p0, p1, p2 = (exact[first3[part, i]] for i in range(3))
+        normals[part] = _cross(p1 - p0, p2 - p0)
+    same = np.zeros(f.size, dtype=bool)
+    for lo in range(0, f.size, _CHUNK):
+        a, b = f[lo : lo + _CHUNK], g[lo : lo + _CHUNK]
+        same[lo : lo + _CHUNK] = np.asarray((normals[a] * normals[b]).sum(axis=1) > 0, dtype=bool)
+    return same
+
+
+@nb.njit(cache=True, parallel=True)
+def _orient3d_zero(V, first3, t_plane, t_point, unsure):  # pragma: no cover - compiled
+    """Exact ``orient3d == 0`` of each ``unsure`` test (Shewchuk's expansions), in parallel chunks."""
+    out = np.empty(unsure.size, dtype=np.bool_)
+    n_chunks = 64
+    for c in nb.prange(n_chunks):
+        w = np.empty((20, 512))
+        lens = np.empty(9, dtype=np.int64)
+        for i in range(c * unsure.size // n_chunks, (c + 1) * unsure.size // n_chunks):
+            j = unsure[i]
+            p = t_plane[j]
+            out[i] = orient3d_sign(V, first3[p, 0], first3[p, 1], first3[p, 2], t_point[j], w, lens) == 0
+    return out
+
+
+@nb.njit(cache=True, parallel=True)
+def _normals_agree(V, first3, f, g):  # pragma: no cover - compiled
+    """Exact ``n_f . n_g > 0`` for each pair (Shewchuk's expansions), in parallel chunks."""
+    out = np.empty(f.size, dtype=np.bool_)
+    n_chunks = 64
+    for c in nb.prange(n_chunks):
+        w = np.empty((24, 2048))
+        lens = np.empty(18, dtype=np.int64)
+        for i in range(c * f.size // n_chunks, (c + 1) * f.size // n_chunks):
+            a, b = f[i], g[i]
+            sign = normals_dot_sign(
+                V, first3[a, 0], first3[a, 1], first3[a, 2], first3[b, 0], first3[b, 1], first3[b, 2], w, lens
+            )
+            out[i] = sign > 0
+    return out
+
+
 def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """Face pairs to merge under the exact criterion, and the step counts of the tests."""
     e, f, g = _opposite_pairs(mesh)
@@ -225,8 +276,12 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     off_plane = np.abs(det) > bound
     unsure = np.flatnonzero(~off_plane)
     steps["orient3d_exact"] = int(unsure.size)
+    fast = exact_range_ok(V)  # Shewchuk's expansions are exact in this range; else exact Python integers
     shift = _common_shift(V)
-    if unsure.size:
+    if unsure.size and fast:
+        zero = _orient3d_zero(V, first3, t_plane, t_point, unsure)
+        off_plane[unsure[~zero]] = True
+    elif unsure.size:
         used = _mask_ids(V.shape[0], first3[t_plane[unsure]], t_point[unsure])
         exact = np.empty((V.shape[0], 3), dtype=object)
         exact[used] = _exact_ints(V[used], shift)
@@ -241,18 +296,10 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     if cand.size:
         faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
         steps["exact_normal"] = int(faces.size)
-        used = _mask_ids(V.shape[0], first3[faces])
-        exact = np.empty((V.shape[0], 3), dtype=object)
-        exact[used] = _exact_ints(V[used], shift)
-        normals = np.empty((mesh.n_faces, 3), dtype=object)
-        for lo in range(0, faces.size, _CHUNK):
-            part = faces[lo : lo + _CHUNK]
-            p0, p1, p2 = (exact[first3[part, i]] for i in range(3))
-            normals[part] = _cross(p1 - p0, p2 - p0)
-        same = np.zeros(cand.size, dtype=bool)
-        for lo in range(0, cand.size, _CHUNK):
-            part = cand[lo : lo + _CHUNK]
-            same[lo : lo + _CHUNK] = np.asarray((normals[f[part]] * normals[g[part]]).sum(axis=1) > 0, dtype=bool)
+        if fast:
+            same = _normals_agree(V, first3, f[cand], g[cand])
+        else:
+            same = _normals_agree_ints(V, first3, faces, f[cand], g[cand], shift)
         cand = cand[same]
     return f[cand], g[cand], steps
 

@@ -1,0 +1,84 @@
+"""detect_many against detect, light by light: the same Silhouette, field by field (ties included)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import silcount
+from silcount.detectors import DETECTORS, detect, detect_many
+from silcount.errors import BadArgument
+from silcount.mesh import shapes
+from silcount.mesh.lights import DirectionalLight, PointLight
+
+
+def _same(a, b) -> None:
+    assert np.array_equal(a.edge_ids, b.edge_ids)
+    assert np.array_equal(a.edges, b.edges)
+    assert np.array_equal(a.oriented, b.oriented)
+    assert a.steps == b.steps and a.true_tally == b.true_tally and a.tally == b.tally
+    assert a.ties == b.ties and a.notes == b.notes and a.paper_params == b.paper_params
+    assert (a.detector, a.variant, a.engine, a.paper_model) == (b.detector, b.variant, b.engine, b.paper_model)
+
+
+def _open_nonmanifold():
+    """A cube missing one face, plus a fin: boundary and three-sided edges besides two-sided ones."""
+    cube = shapes.triangle_cube()
+    faces = [list(cube.corners[cube.face_start[p] : cube.face_start[p + 1]]) for p in range(1, cube.n_faces)]
+    v = np.vstack([cube.vertices, [[2.0, 2.0, 2.0]]])
+    a, b = faces[0][0], faces[0][1]
+    return silcount.from_polygons(v, faces + [[a, b, len(v) - 1]], name="open_fin")
+
+
+MESHES = {
+    "torus": shapes.torus(1.0, 0.35, 12, 8),
+    "cube": shapes.triangle_cube(),
+    "open_fin": _open_nonmanifold(),
+}
+
+coord = st.one_of(st.floats(-5, 5, allow_nan=False), st.sampled_from([0.0, 1.0, -1.0, 0.5]))
+light = st.builds(
+    lambda kind, x, y, z: (
+        DirectionalLight((x, y, z if (x, y, z) != (0, 0, 0) else 1.0)) if kind else PointLight((x, y, z))
+    ),
+    st.booleans(),
+    coord,
+    coord,
+    coord,
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(sorted(MESHES)), st.lists(light, min_size=1, max_size=70))
+def test_reference_many_equals_single(mesh_name, lights):
+    """Point lights on face planes (ties), directional lights, and more than one 64-light batch."""
+    mesh = MESHES[mesh_name]
+    many = detect_many(mesh, lights)
+    assert len(many) == len(lights)
+    for L, got in zip(lights, many, strict=True):
+        _same(got, detect(mesh, L))
+
+
+def test_ties_are_counted_per_light():
+    cube = shapes.triangle_cube()
+    lo = cube.vertices.min(axis=0)
+    lights = [PointLight(tuple(lo)), PointLight((9.0, 9.0, 9.0)), PointLight(tuple(lo + [0.0, 0.0, 0.0]))]
+    many = detect_many(cube, lights)
+    assert [r.ties for r in many] == [detect(cube, L).ties for L in lights]
+    assert many[0].ties > 0
+
+
+@pytest.mark.parametrize("name", DETECTORS)
+def test_every_detector_many_equals_single(name):
+    mesh = MESHES["torus"]
+    lights = [PointLight((3.0, 1.0, 2.0)), DirectionalLight((0.2, -1.0, 0.4))]
+    for L, got in zip(lights, detect_many(mesh, lights, name), strict=True):
+        _same(got, detect(mesh, L, name))
+
+
+def test_bad_arguments():
+    with pytest.raises(BadArgument):
+        detect_many(MESHES["cube"], [PointLight((0, 0, 5))], "nope")
+    assert detect_many(MESHES["cube"], []) == []
