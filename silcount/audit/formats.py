@@ -14,8 +14,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pandas as pd
-
 from silcount.atomic import write_text
 from silcount.counting.arithmetic import KINDS
 
@@ -37,6 +35,8 @@ def fmt(x) -> str:
 
 def table(header: list[str], rows: list[list[str]], markdown: bool) -> list[str]:
     """Aligned plain-text or Markdown table lines: the first column left-aligned, the others right-aligned."""
+    import pandas as pd  # pandas (~0.5 s): only when a table is laid out
+
     frame = pd.DataFrame(rows, columns=header, dtype=object)
     align = ("left",) + ("right",) * (len(header) - 1)
     text = frame.to_markdown(

@@ -57,8 +57,6 @@ from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from silcount.mesh.exact import exact_range_ok, normals_dot_sign, orient3d_sign
 from silcount.mesh.model import Mesh
@@ -333,6 +331,9 @@ def _facet_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
 def _build(mesh: Mesh, criterion: str) -> Merge:
     F = mesh.n_faces
     f, g, steps = _tight_links(mesh) if criterion == "tight" else _facet_links(mesh)
+    from scipy.sparse import coo_matrix  # scipy (~0.5 s): only when a merge runs
+    from scipy.sparse.csgraph import connected_components
+
     graph = coo_matrix((np.ones(f.size, dtype=np.int8), (f, g)), shape=(F, F))
     _, label = connected_components(graph, directed=False)
     rep = np.full(label.max() + 1, F, dtype=np.int64)

@@ -24,8 +24,6 @@ Definitions used here:
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from silcount.mesh.coplanar import merge
 from silcount.mesh.model import Mesh, weld
@@ -49,6 +47,9 @@ def n_components(mesh: Mesh) -> int:
     start, order = mesh.edge_sides
     faces_by_edge = mesh.side_face[order]
     first = np.repeat(faces_by_edge[start[:-1]], mesh.edge_valence)
+    from scipy.sparse import coo_matrix  # scipy: only when statistics are computed
+    from scipy.sparse.csgraph import connected_components
+
     graph = coo_matrix((np.ones(order.size, dtype=np.int8), (first, faces_by_edge)), shape=(mesh.n_faces,) * 2)
     return int(connected_components(graph, directed=False)[0])
 
