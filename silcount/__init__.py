@@ -11,7 +11,10 @@ rasteriser that checks the shadows they produce.
 2
 
 The names below are loaded on first use (PEP 562), so ``import silcount``
-costs numpy and nothing heavier; each lives in the subpackage named beside it.
+costs nothing heavy; each lives in the subpackage named beside it.
+``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
+frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
+(:mod:`silcount.study`).
 """
 
 from __future__ import annotations
@@ -34,10 +37,21 @@ _LAZY: dict[str, str] = {
     "from_polygons": "silcount.mesh.model",
     "builtin_mesh": "silcount.mesh.shapes",
     "shapes": "silcount.mesh",
+    "detect_many": "silcount.detectors",
+    "corpus": "silcount.study",
+}
+
+# public functions defined by another name in their module
+_RENAMED: dict[str, tuple[str, str]] = {
+    "claims": ("silcount.papers.claims", "claims_frame"),
+    "tables": ("silcount.papers.tables", "tables_frame"),
 }
 
 if TYPE_CHECKING:
-    from silcount.detectors import DETECTORS, Silhouette, detect
+    from silcount.detectors import DETECTORS, Silhouette, detect, detect_many
+    from silcount.papers.claims import claims_frame as claims
+    from silcount.papers.tables import tables_frame as tables
+    from silcount.study import corpus
     from silcount.mesh import shapes
     from silcount.mesh.io import load_mesh
     from silcount.mesh.lights import DirectionalLight, PointLight
@@ -46,16 +60,19 @@ if TYPE_CHECKING:
 
 
 def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
+    if name in _RENAMED:
+        module, attr = _RENAMED[name]
+    elif name in _LAZY:
+        module, attr = _LAZY[name], name
+    else:
         raise AttributeError(f"module 'silcount' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
+    value = getattr(importlib.import_module(module), attr)
     globals()[name] = value
     return value
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | set(_RENAMED))
 
 
 __all__ = [

@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from silcount.corpus import corpus, find_files
-from silcount.corpus import schedule as schedule_mod
-from silcount.corpus.fits import power_fit
-from silcount.corpus.subdivide import faces_after, subdivide
-from silcount.corpus.work import Settings, mesh_lights, shape_kind
+from silcount.study import corpus, find_files
+from silcount.study import schedule as schedule_mod
+from silcount.study.fits import power_fit
+from silcount.study.subdivide import faces_after, subdivide
+from silcount.study.work import Settings, mesh_lights, shape_kind
 from silcount.detectors.adjacency import silhouette_edge_ids
 from silcount.mesh.lights import DirectionalLight, PointLight
 from silcount.mesh.model import from_polygons

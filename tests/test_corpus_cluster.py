@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from silcount.corpus import corpus
+from silcount.study import corpus
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = ROOT / "data"

@@ -22,7 +22,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("silcount.counting",),
     ("silcount.mesh",),
     ("silcount.detectors",),
-    ("silcount.render", "silcount.corpus"),
+    ("silcount.render", "silcount.study"),
     ("silcount.calibrate",),
     ("silcount.papers",),
     ("silcount.audit",),

@@ -1,7 +1,7 @@
 """`silcount corpus PATH...`: every detector under many lights on every mesh of a collection, on Dask.
 
-The sweep is :func:`silcount.corpus.corpus`; the files of ``--out`` and the
-stdout formats are :mod:`silcount.corpus.output`.  Runs in-process by default
+The sweep is :func:`silcount.study.corpus`; the files of ``--out`` and the
+stdout formats are :mod:`silcount.study.output`.  Runs in-process by default
 (``--scheduler processes`` or ``threads``, ``--workers N``), or on a running
 ``dask.distributed`` cluster (``--scheduler tcp://HOST:PORT``, after
 ``dask scheduler`` and ``dask worker tcp://HOST:PORT`` on the machines).
@@ -81,8 +81,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from silcount.corpus import corpus
-    from silcount.corpus.output import render, write_out
+    from silcount.study import corpus
+    from silcount.study.output import render, write_out
     from silcount.errors import BadArgument
 
     if args.out is not None and args.out.exists() and not args.out.is_dir():
@@ -130,8 +130,8 @@ def report(out_dir: Path) -> list[Path]:
     reruns), the default cache (a timed ``silcount corpus`` run with the same
     settings fills it), no ``corpus.parquet``.
     """
-    from silcount.corpus import corpus
-    from silcount.corpus.output import write_out
+    from silcount.study import corpus
+    from silcount.study.output import write_out
 
     source = corpus_dir()
     if source is None:

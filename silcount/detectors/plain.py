@@ -102,7 +102,7 @@ def _vnv(edges, vertices, face_start, corners, light, directional):  # pragma: n
     return out[:k]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")  # as the inlined ray-triangle test: det == 0 gives inf, not an exception
 def _eesd(origins, directions, t_min, t_max, vertices, face_start, corners):  # pragma: no cover - compiled
     out = np.empty(origins.shape[0], dtype=np.int64)
     k = 0

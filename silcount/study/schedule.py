@@ -9,7 +9,7 @@
   and collects results with ``as_completed``; a unit whose worker died
   (``KilledWorker``) becomes that mesh's error row.
 
-Either way every finished unit goes to the cache (:mod:`silcount.corpus.cache`)
+Either way every finished unit goes to the cache (:mod:`silcount.study.cache`)
 at once, and the results are returned in the order of ``items``, whatever the
 order of completion: nothing downstream depends on the scheduler or the
 worker count.
@@ -21,8 +21,8 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from silcount.corpus.cache import Cache, cache_key
-from silcount.corpus.work import Settings, audit_task
+from silcount.study.cache import Cache, cache_key
+from silcount.study.work import Settings, audit_task
 from silcount.errors import BadArgument
 from silcount.progress import progress
 

@@ -1,9 +1,9 @@
 """Writing a sweep: ``--out DIR`` files and the ``text``/``md``/``json`` renderings for stdout.
 
 ``--out DIR`` receives ``corpus.parquet`` (pyarrow; the rows table of
-:mod:`silcount.corpus.tables`), ``meshes.csv``, ``fits.json``, ``summary.md``
+:mod:`silcount.study.tables`), ``meshes.csv``, ``fits.json``, ``summary.md``
 (the summary and fits tables below) and the figures of
-:mod:`silcount.corpus.figures`, each written atomically.
+:mod:`silcount.study.figures`, each written atomically.
 
 The *summary* table has one row per mesh and level: ``file, level, faces,
 kind, coplanar_polygons, silhouette_edges_mean, silhouette_edges_std,
@@ -23,7 +23,7 @@ from silcount.atomic import atomic_path, write_text
 if TYPE_CHECKING:
     import pandas as pd
 
-    from silcount.corpus import CorpusResult
+    from silcount.study import CorpusResult
 
 FORMATS = ("text", "md", "json")
 SUMMARY = (
@@ -103,7 +103,7 @@ def render(result: CorpusResult, form: str) -> str:
 
 def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> list[Path]:
     """Every ``--out`` file under ``out_dir`` (``with_rows=False`` leaves out ``corpus.parquet``)."""
-    from silcount.corpus.figures import write_figures
+    from silcount.study.figures import write_figures
 
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []

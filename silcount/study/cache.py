@@ -29,7 +29,7 @@ from functools import cache
 from pathlib import Path
 
 from silcount.atomic import write_text
-from silcount.corpus.work import Settings
+from silcount.study.work import Settings
 from silcount.counting.paper import models_dir
 from silcount.version import __version__
 
@@ -53,10 +53,10 @@ UNIT_SOURCES = (
     "counting/**/*.py",
     "mesh/**/*.py",
     "detectors/**/*.py",
-    "corpus/work.py",
-    "corpus/subdivide.py",
+    "study/work.py",
+    "study/subdivide.py",
 )
-"""The sources a unit's result depends on (under ``silcount/``): the layers below ``corpus`` and the unit's own."""
+"""The sources a unit's result depends on (under ``silcount/``): the layers below ``study`` and the unit's own."""
 
 
 @cache

@@ -24,10 +24,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.corpus.cache import Cache, default_cache_dir
-from silcount.corpus.schedule import Item, check_scheduler, run_items
-from silcount.corpus.tables import document, fits, meshes_frame, rows_frame
-from silcount.corpus.work import LIGHT_KINDS, Settings
+from silcount.study.cache import Cache, default_cache_dir
+from silcount.study.schedule import Item, check_scheduler, run_items
+from silcount.study.tables import document, fits, meshes_frame, rows_frame
+from silcount.study.work import LIGHT_KINDS, Settings
 from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, UnreadableInput
 from silcount.mesh.io import FORMATS
@@ -115,7 +115,7 @@ def corpus(
 ) -> CorpusResult:
     """Sweep every mesh file under ``paths`` (see the module docstring and ``silcount corpus --help``).
 
-    ``cache``: ``True`` for :func:`~silcount.corpus.cache.default_cache_dir`, a
+    ``cache``: ``True`` for :func:`~silcount.study.cache.default_cache_dir`, a
     folder, or ``False``/``None`` for none.  ``scheduler``: ``threads``,
     ``processes`` or ``tcp://HOST:PORT``; ``workers`` applies to the first two.
     A mesh that cannot be audited is a row of ``meshes`` with its ``error``;

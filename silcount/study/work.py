@@ -3,7 +3,7 @@
 :func:`audit_task` is what a Dask worker runs.  It receives the file's bytes
 (the client read them: workers need no shared filesystem), writes them to a
 private temporary file, loads it with :func:`silcount.mesh.io.load_mesh`,
-subdivides it (:mod:`silcount.corpus.subdivide`) and runs every requested
+subdivides it (:mod:`silcount.study.subdivide`) and runs every requested
 detector under every light with :func:`silcount.detectors.detect`.  It returns
 plain JSON-ready data and never raises for a bad mesh: the failure becomes the
 result's one-line ``error`` (so one file never stops a sweep).
@@ -210,7 +210,7 @@ def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple
 
 
 def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> dict:
-    from silcount.corpus.subdivide import subdivide
+    from silcount.study.subdivide import subdivide
 
     mesh = subdivide(mesh, level)
     record = mesh_record(mesh)

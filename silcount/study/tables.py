@@ -10,11 +10,11 @@
   ``M_write``, their sum ``M_total`` and ``M_cycles_<profile>`` per cycle
   profile.
 * **meshes** (``meshes.csv``): one row per mesh and level: the statistics of
-  :func:`silcount.corpus.work.mesh_record`, ``silhouette_edges_mean``/``_std``,
+  :func:`silcount.study.work.mesh_record`, ``silhouette_edges_mean``/``_std``,
   ``time_per_light_s:<detector>``, and per run ``<run>:<column>`` the *mean
   per light* of every count and cycle column above; ``error`` (empty when the
   mesh was audited).
-* **fits**: :func:`fits` (see :mod:`silcount.corpus.fits`).
+* **fits**: :func:`fits` (see :mod:`silcount.study.fits`).
 
 Rows are sorted by file, level, light and the settings' run order, so the
 tables do not depend on the scheduler, the worker count or completion order.
@@ -24,8 +24,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from silcount.corpus.fits import power_fit
-from silcount.corpus.work import Settings
+from silcount.study.fits import power_fit
+from silcount.study.work import Settings
 from silcount.version import __version__
 
 if TYPE_CHECKING:
