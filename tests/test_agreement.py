@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from strategies import convex_hulls, lights_for, mesh_and_light
+from strategies import convex_hulls, examples, lights_for, mesh_and_light
 
 import silcount
 
 EXACT = ("ta", "vnv", "hsd")
-SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=examples(40), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def edge_set(res) -> set[tuple[int, int]]:

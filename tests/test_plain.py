@@ -2,13 +2,13 @@
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
-from strategies import mesh_and_light
+from strategies import examples, mesh_and_light
 
 import silcount
 from silcount.detectors.plain import PLAIN, plain_edge_ids
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(30), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(mesh_and_light())
 def test_plain_kernels_equal_the_detectors(ml):
     mesh, light = ml

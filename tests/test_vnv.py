@@ -3,7 +3,7 @@
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from strategies import closed_meshes, lights_for
+from strategies import closed_meshes, examples, lights_for
 
 import silcount
 from silcount.detectors.adjacency import facing_flags
@@ -99,14 +99,14 @@ def test_quad_cube_by_hand():
 small_meshes = closed_meshes().filter(lambda m: m.n_faces <= 130)
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=examples(12), deadline=None)
 @given(data=st.data(), variant=st.sampled_from(["intended", "literal"]))
 def test_naive_equals_fast(data, variant):
     mesh = data.draw(small_meshes)
     both_engines(mesh, data.draw(lights_for(mesh)), variant)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(data=st.data())
 def test_intended_equals_reference_and_literal_disagrees(data):
     mesh = data.draw(closed_meshes())
