@@ -148,11 +148,11 @@ def merge_counted(mesh: Mesh) -> CountedMerge:
 
     pairs: list[tuple[int, int]] = []
     for e in range(E):
-        f, g, from_f, from_g = (table[4 * e + k] for k in range(4))
+        face_f, face_g, from_f, from_g = (table[4 * e + k] for k in range(4))
         steps["candidate_edge"] += 1
-        different_faces, opposite = f != g, from_f != from_g  # both compares run
+        different_faces, opposite = face_f != face_g, from_f != from_g  # both compares run
         if different_faces and opposite:
-            pairs.append((plain(f), plain(g)))
+            pairs.append((int(plain(face_f)), int(plain(face_g))))
 
     def on_plane(plane: int, other: int) -> bool:
         a, b, c = corners[plane][:3]
@@ -219,7 +219,7 @@ def merge_counted(mesh: Mesh) -> CountedMerge:
     for p in range(F):
         steps["label"] += 1
         region_mem[p] = number[roots[p]]
-    region = region_mem.data
+    region = np.asarray(region_mem.data)
 
     interior = np.zeros(E, dtype=bool)
     start, order = mesh.edge_sides
