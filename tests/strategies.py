@@ -264,3 +264,17 @@ def hard_lights_for(draw, mesh: Mesh):
 def mesh_and_light(draw, meshes: st.SearchStrategy[Mesh] | None = None):
     mesh = draw(meshes if meshes is not None else closed_meshes())
     return mesh, draw(lights_for(mesh))
+
+
+def clear_of_ties(mesh: Mesh, light, angle: float = 1e-5) -> bool:
+    """Does the light see every face at more than ``angle`` radians from edge-on?
+
+    EESD's offset point is ``1e-6`` edge lengths from its edge, so a face seen
+    within about that angle of edge-on can let its ray pass (documented in
+    ``detectors/eesd.py``); properties of EESD's edges hold only clear of that.
+    """
+    n = mesh.face_normals
+    d = np.broadcast_to(np.asarray(light.direction), n.shape) if light.is_directional else light.position - mesh.face_p0
+    dot = np.abs(np.einsum("ij,ij->i", d, n))
+    size = np.linalg.norm(d, axis=1) * np.linalg.norm(n, axis=1)
+    return bool(np.all(dot > np.sin(angle) * size))
