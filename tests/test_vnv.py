@@ -143,3 +143,23 @@ def test_open_triangle_soup(shared_mesh):
     assert res.n_edges == 3 * sum(flags) and 0 < sum(flags) < soup.n_faces
     lit = both_engines(soup, light, "literal")  # many lit faces: the never-reset counter passes 1 before edge 0 ends
     assert lit.n_edges == 0 and lit.steps["counter"] == soup.n_edges * sum(flags)
+
+
+def test_defaults_and_engine_dispatch(monkeypatch):
+    # vnv.detect called directly: intended and fast by default; "naive" runs the counted loop, anything else the fast
+    from silcount.detectors import vnv
+
+    m = silcount.builtin_mesh("tetrahedron")
+    light = silcount.PointLight((5.0, 5.0, 5.0))
+    default = vnv.detect(m, light)
+    assert (default.variant, default.engine) == ("intended", "fast") and default.edge_ids.tolist() == [0, 1, 3]
+
+    def refuse(*args):
+        raise AssertionError("wrong engine")
+
+    with monkeypatch.context() as mp:
+        mp.setattr(vnv, "_naive", refuse)
+        assert vnv.detect(m, light, engine="fast").edge_ids.tolist() == [0, 1, 3]
+    with monkeypatch.context() as mp:
+        mp.setattr(vnv, "_fast", refuse)
+        assert vnv.detect(m, light, engine="naive").edge_ids.tolist() == [0, 1, 3]
