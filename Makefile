@@ -42,7 +42,7 @@ MUTATION_TESTS := tests/test_arithmetic.py tests/test_edge_rules.py tests/test_c
 mutation: $(STAMP)
 	$(BIN)/python -m pip install --quiet 'mutmut>=2.4,<3'
 	-$(BIN)/mutmut run --paths-to-mutate '$(MUTATE)' --tests-dir tests --no-progress \
-		--runner "$(CURDIR)/$(BIN)/python -m pytest -x -q -p no:cacheprovider -m 'not hypothesis' \
+		--runner "$(abspath $(BIN))/python -m pytest -x -q -p no:cacheprovider -m 'not hypothesis' \
 		-k 'not torus and not soup and not match_the_committed' $(MUTATION_TESTS)"
 	$(BIN)/mutmut results
 
