@@ -37,7 +37,7 @@ lint: $(STAMP)
 ## hand-counted tests (property tests deselected: -m 'not hypothesis').  mutmut edits the tree in place and restores
 ## it; `$(BIN)/mutmut show <id>` prints a survivor.  MUTATE=<paths> narrows the run.
 MUTATE ?= silcount/detectors/,silcount/counting/,silcount/papers/formulas.py
-MUTATION_TESTS := tests/test_arithmetic.py tests/test_edge_rules.py tests/test_coplanar_counted.py tests/test_vnv.py tests/test_reference.py \
+MUTATION_TESTS := tests/test_arithmetic.py tests/test_models_dir.py tests/test_edge_rules.py tests/test_coplanar_counted.py tests/test_vnv.py tests/test_reference.py \
 	tests/test_ta.py tests/test_hsd.py tests/test_eesd.py tests/test_formulas.py tests/test_audit.py
 mutation: $(STAMP)
 	$(BIN)/python -m pip install --quiet 'mutmut>=2.4,<3'
