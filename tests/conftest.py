@@ -5,7 +5,9 @@ The suite leaves the checkout as it found it: numba's cache goes to
 folder when unset), and hypothesis keeps its example database in a temporary
 folder.  Hypothesis profiles: ``ci`` (the default) and ``long`` (10x the
 examples, the database kept under the user cache), chosen by
-``SILCOUNT_HYPOTHESIS_PROFILE``.
+``SILCOUNT_HYPOTHESIS_PROFILE``.  Tests set ``max_examples=examples(n)``
+(``strategies.examples``), which is ``n`` under ``ci`` and ``10 n`` under
+``long``; the profile's own ``max_examples`` applies to tests that set none.
 """
 
 from __future__ import annotations

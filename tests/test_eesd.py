@@ -1,9 +1,9 @@
 """EESD: hand-counted tallies, naive == fast, intended vs reference (convex: equal; tori: subset)."""
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from strategies import closed_meshes, convex_hulls, lights_for, perturbed_tori
+from strategies import clear_of_ties, closed_meshes, convex_hulls, examples, lights_for, perturbed_tori
 
 import silcount
 
@@ -116,18 +116,19 @@ def test_quad_cube_literal_by_hand():
 small_meshes = closed_meshes().filter(lambda m: m.n_faces <= 80)
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=examples(20), deadline=None)
 @given(data=st.data(), variant=st.sampled_from(["intended", "literal"]))
 def test_naive_equals_fast(data, variant):
     mesh = data.draw(small_meshes)
     both_engines(mesh, data.draw(lights_for(mesh)), variant)
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30), deadline=None)
 @given(data=st.data())
 def test_intended_equals_reference_on_convex_hulls(data):
     mesh = data.draw(convex_hulls(max_points=60))
     light = data.draw(lights_for(mesh))
+    assume(clear_of_ties(mesh, light))  # EESD near-ties: see strategies.clear_of_ties
     ref = silcount.detect(mesh, light, "reference")
     res = silcount.detect(mesh, light, "eesd", "intended")
     assert np.array_equal(res.edges, ref.edges) and np.array_equal(res.oriented, ref.oriented)
@@ -136,11 +137,12 @@ def test_intended_equals_reference_on_convex_hulls(data):
     assert lit.n_edges == mesh.n_edges and lit.notes["extra_edges"] == mesh.n_edges - ref.n_edges > 0
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30), deadline=None)
 @given(data=st.data())
 def test_intended_is_a_subset_of_reference_on_tori(data):
     mesh = data.draw(perturbed_tori())
     light = data.draw(lights_for(mesh))
+    assume(clear_of_ties(mesh, light))  # EESD near-ties: see strategies.clear_of_ties
     ref = silcount.detect(mesh, light, "reference")
     res = silcount.detect(mesh, light, "eesd", "intended")
     ref_set = {tuple(e) for e in ref.edges.tolist()}

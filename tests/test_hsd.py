@@ -4,15 +4,14 @@ and the failure of a loose ("facets") merge on a scanned mesh."""
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from strategies import closed_meshes, lights_for
-from test_ta import any_meshes
+from strategies import any_meshes, closed_meshes, examples, lights_for
 
 import silcount
 from silcount.counting import paper as models
 from silcount.mesh.coplanar import merge
 from silcount.mesh.model import from_polygons
 
-SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=examples(15), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _subdivided_cube():
@@ -143,7 +142,7 @@ def test_naive_equals_fast(data, variant, kind):
     _same(silcount.detect(mesh, light, "hsd", variant, "naive"), silcount.detect(mesh, light, "hsd", variant, "fast"))
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=examples(30), deadline=None)
 @given(data=st.data())
 def test_intended_equals_reference(data):
     mesh = data.draw(st.one_of(closed_meshes(), st.just(_subdivided_cube())))

@@ -2,7 +2,7 @@
 
 import numpy as np
 from hypothesis import given, settings
-from strategies import mesh_and_light
+from strategies import examples, mesh_and_light
 
 import silcount
 
@@ -35,7 +35,7 @@ def test_naive_equals_fast_on_torus():
     assert a.tally == b.tally and a.steps == b.steps
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(mesh_and_light())
 def test_naive_equals_fast_to_the_unit(ml):
     mesh, light = ml

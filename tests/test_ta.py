@@ -3,7 +3,7 @@
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from strategies import closed_meshes, lights_for, mesh_and_light
+from strategies import any_meshes, closed_meshes, examples, lights_for, mesh_and_light
 
 import silcount
 from silcount.counting import paper as models
@@ -127,17 +127,7 @@ def test_paper_worst_case_reproduces_printed_sum():
     assert models.paper_tally("hsd2011-ta", steps, {"f_n": n, "e_n": 6 * n, "m": m}) == got
 
 
-@st.composite
-def any_meshes(draw):
-    """Arbitrary small triangle sets on few vertices: boundary, non-manifold, inconsistent, duplicate faces."""
-    k = draw(st.integers(4, 7))
-    seed = draw(st.integers(0, 2**32 - 1))
-    tris = draw(st.lists(st.lists(st.integers(0, k - 1), min_size=3, max_size=3, unique=True), min_size=1, max_size=16))
-    v = np.random.default_rng(seed).normal(size=(k, 3))
-    return from_polygons(v, tris, name=f"any{seed}")
-
-
-SETTINGS = settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=examples(20), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _same(a, b):
@@ -161,7 +151,7 @@ def test_naive_equals_fast_any_mesh(data, variant):
     _same(silcount.detect(mesh, light, "ta", variant, "naive"), silcount.detect(mesh, light, "ta", variant, "fast"))
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(ml=mesh_and_light())
 def test_intended_equals_reference_on_closed_meshes(ml):
     mesh, light = ml
@@ -183,7 +173,7 @@ def test_inconsistent_winding_leaves_a_duplicate():
     assert res.notes["extra_edges"] == 1 and res.notes["missed_edges"] == 0
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200), deadline=None)
 @given(n_keys=st.integers(2, 12), data=st.data())
 def test_replay_matches_a_plain_list(n_keys, data):
     # The Fenwick replay against S as a Python list searched from the front, on arbitrary key

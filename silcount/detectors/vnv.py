@@ -45,11 +45,16 @@ pair whose face is light-facing).
 Engines
 -------
 ``naive`` runs the double loop on counting arithmetic (small meshes only:
-it is O(E F)).  ``fast`` derives the same counts from the facing flags:
-``E*F`` visibility tests; per light-facing face with ``m_f`` sides, ``E``
-containment scans of which ``E - m_f`` examine all ``m_f`` sides and the
-``m_f`` incident ones stop after 1, 2, ..., ``m_f`` sides (a face lists an
-edge once); the counter rises once per incident (edge, facing face) pair.
+it is O(E F)).  ``fast`` computes VnV's counters from the data and applies
+VnV's own test ``e_counter == 1`` to them: ``intended``'s counter of edge E
+is the number of light-facing faces whose sides list E (one ``bincount``
+over the light-facing faces' sides; a face lists an edge at most once, since
+faces with a repeated corner are dropped); ``literal``'s never-reset counter
+after edge ``e`` (0-based) is ``(e + 1) * v``.  It never consults the
+reference rule.  ``E*F`` visibility tests; per light-facing face with
+``m_f`` sides, ``E`` containment scans, each examining all ``m_f`` sides
+except when E is the face's side at 0-based place ``j``, which stops after
+``j + 1``.
 """
 
 from __future__ import annotations
@@ -57,7 +62,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.adjacency import facing_flags
 from silcount.detectors.base import (
     MeshMemory,
     Silhouette,
@@ -120,14 +125,21 @@ def _fast(mesh: Mesh, light: Light, variant: str):
     is_facing, ties = facing_flags(mesh, light)
     E, F = mesh.n_edges, mesh.n_faces
     n_vis = int(np.count_nonzero(is_facing))
+    facing_sides = np.flatnonzero(is_facing[mesh.side_face])
     if variant == "intended":
-        ids = silhouette_edge_ids(mesh, light)  # exactly one light-facing incident face
+        # E_counter of each edge: the light-facing faces whose sides list it (a face lists an edge once)
+        counters = np.bincount(mesh.side_edge[facing_sides], minlength=E)
+        ids = np.flatnonzero(counters == 1)  # If e_counter = 1 then Add E to S
+        increments = int(counters.sum())
+        # contains(F, E) examines every side of F when E is not among them, else stops at E's side
         m_vis = mesh.face_sizes[is_facing].astype(np.int64)
-        examined = int(np.sum((E - m_vis) * m_vis + m_vis * (m_vis + 1) // 2))
-        increments = int(m_vis.sum())
+        position = facing_sides - mesh.face_start[mesh.side_face[facing_sides]]  # 0-based place in its face
+        examined = int(np.sum(E * m_vis) - np.sum(mesh.face_sizes[mesh.side_face[facing_sides]] - position - 1))
     else:
-        ids = np.zeros(1 if n_vis == 1 and E > 0 else 0, dtype=np.int64)  # counter after edge e is e * n_vis
-        increments = E * n_vis
+        # E_counter is never reset: after edge e (0-based) it holds (e + 1) * n_vis
+        counters = n_vis * np.arange(1, E + 1, dtype=np.int64)
+        ids = np.flatnonzero(counters == 1)
+        increments = int(counters[-1]) if E else 0
     steps = {"visibility": E * F, "counter": increments, "check_counter": E, "add": int(ids.size)}
     true: dict[str, int] = {}
     add_scaled(true, visibility_true_cost(light), E * F)
