@@ -49,14 +49,14 @@ _RENAMED: dict[str, tuple[str, str]] = {
 
 if TYPE_CHECKING:
     from silcount.detectors import DETECTORS, Silhouette, detect, detect_many
-    from silcount.papers.claims import claims_frame as claims
-    from silcount.papers.tables import tables_frame as tables
-    from silcount.study import corpus
     from silcount.mesh import shapes
     from silcount.mesh.io import load_mesh
     from silcount.mesh.lights import DirectionalLight, PointLight
     from silcount.mesh.model import Mesh, from_polygons
     from silcount.mesh.shapes import builtin_mesh
+    from silcount.papers.claims import claims_frame as claims
+    from silcount.papers.tables import tables_frame as tables
+    from silcount.study import corpus
 
 
 def __getattr__(name: str) -> Any:
@@ -79,6 +79,10 @@ __all__ = [
     "DETECTORS",
     "Silhouette",
     "detect",
+    "detect_many",
+    "claims",
+    "tables",
+    "corpus",
     "load_mesh",
     "PointLight",
     "DirectionalLight",

@@ -110,7 +110,8 @@ def test_unit_and_file_cycle_profiles(tetra, tmp_path):
     )
     d = json.loads(out)["detectors"]["reference"]
     assert d["cycles"]["true"] == sum(d["tallies"]["true"][k] for k in ("add", "mul", "cmp", "read", "write"))
-    prof = write(tmp_path, "mine.toml", "[weights]\nadd = 0\nmul = 0\ncmp = 0\nread = 10\nwrite = 0\ndiv = 0\nsqrt = 0\n")
+    weights = "add = 0\nmul = 0\ncmp = 0\nread = 10\nwrite = 0\ndiv = 0\nsqrt = 0\n"
+    prof = write(tmp_path, "mine.toml", "[weights]\n" + weights)
     rc, out, _ = run_cli(
         "audit", str(tetra), "--light", "0,0,5", "--cycles", str(prof), "--format", "json", "--detectors", "reference"
     )

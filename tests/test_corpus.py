@@ -15,15 +15,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.mesh.lights import DirectionalLight, PointLight
+from silcount.mesh.model import from_polygons
+from silcount.mesh.shapes import icosphere, plane, quad_cube
 from silcount.study import corpus, find_files
 from silcount.study import schedule as schedule_mod
 from silcount.study.fits import power_fit
 from silcount.study.subdivide import faces_after, subdivide
 from silcount.study.work import Settings, mesh_lights, shape_kind
-from silcount.detectors.adjacency import silhouette_edge_ids
-from silcount.mesh.lights import DirectionalLight, PointLight
-from silcount.mesh.model import from_polygons
-from silcount.mesh.shapes import icosphere, plane, quad_cube
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "schemas" / "corpus.schema.json"

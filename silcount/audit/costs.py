@@ -10,6 +10,8 @@ evaluated at the mesh's ``n`` (faces; HSD: merged polygons) and ``m`` (mean side
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from silcount.counting import paper as models
 from silcount.counting.cycles import load_profile
 from silcount.mesh.model import Mesh
@@ -21,7 +23,7 @@ def cycle_profile(spec: str) -> tuple[str, dict[str, float]]:
     return prof.name, dict(prof.weights)
 
 
-def weighted(tally: dict[str, float], weights: dict[str, float]) -> float:
+def weighted(tally: Mapping[str, float], weights: Mapping[str, float]) -> float:
     """``sum(count * weight)`` over the kinds the profile weighs; an int when every term is."""
     total = sum(tally.get(k, 0) * w for k, w in weights.items())
     return int(total) if float(total).is_integer() else float(total)

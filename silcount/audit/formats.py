@@ -104,7 +104,7 @@ def _mesh_lines(mesh: dict, markdown: bool) -> list[str]:
 
 
 def _light_text(light: dict) -> str:
-    where = light.get("position") or light.get("direction")
+    where = light.get("position") or light.get("direction") or ()
     return f"{light['kind']} ({', '.join(fmt(c) for c in where)})"
 
 

@@ -62,7 +62,7 @@ class AuditSettings:
     with_time: bool = True
 
 
-def random_lights(mesh: Mesh, count: int = DEFAULT_LIGHT_COUNT, seed: int = DEFAULT_SEED) -> list[PointLight]:
+def random_lights(mesh: Mesh, count: int = DEFAULT_LIGHT_COUNT, seed: int = DEFAULT_SEED) -> list[Light]:
     """``count`` point lights uniformly on the sphere of ``LIGHT_DISTANCE`` x the bounding radius."""
     rng = np.random.default_rng(seed)
     dirs = rng.normal(size=(count, 3))

@@ -110,7 +110,7 @@ def parse_vector(text: str, option: str) -> tuple[float, float, float]:
         values = ()
     if len(values) != 3 or not np.all(np.isfinite(values)):
         raise BadArgument(f"{option} {text!r}: expected three finite comma-separated numbers X,Y,Z")
-    return values  # type: ignore[return-value]
+    return values
 
 
 def explicit_lights(args: argparse.Namespace) -> list[Light]:

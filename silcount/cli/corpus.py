@@ -81,9 +81,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.errors import BadArgument
     from silcount.study import corpus
     from silcount.study.output import render, write_out
-    from silcount.errors import BadArgument
 
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise BadArgument(f"--out {args.out}: not a directory")

@@ -40,7 +40,7 @@ COMMANDS: dict[str, ModuleType] = {
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str):  # type: ignore[override]  # exit 2 with one line, as argparse does, but name the program
+    def error(self, message: str):  # exit 2 with one line, as argparse does, but name the program
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 

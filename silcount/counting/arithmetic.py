@@ -83,10 +83,10 @@ class Num:
     def __ge__(self, o):
         return self._cmp(self.value >= self._v(o))
 
-    def __eq__(self, o):  # type: ignore[override]
+    def __eq__(self, o):
         return self._cmp(self.value == self._v(o))
 
-    def __ne__(self, o):  # type: ignore[override]
+    def __ne__(self, o):
         return self._cmp(self.value != self._v(o))
 
     __hash__ = None  # type: ignore[assignment]

@@ -96,8 +96,7 @@ class MeshMemory:
         self.corners = Memory(mesh.corners, counter)
         self.face_start = Memory(mesh.face_start, counter)
         self.directional = isinstance(light, DirectionalLight)
-        src = light.direction if self.directional else light.position
-        self.light = Memory(np.asarray(src, dtype=np.float64), counter)
+        self.light = Memory(np.asarray(light.vector, dtype=np.float64), counter)
 
 
 def counted_face_normal(mem: MeshMemory, p: int) -> tuple[list[Num], list[Num]]:

@@ -166,7 +166,7 @@ def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
         )
         return _ids_of_keys(mesh, keys)
     directional = isinstance(light, DirectionalLight)
-    src = np.asarray(light.direction if directional else light.position, dtype=np.float64)
+    src = np.asarray(light.vector, dtype=np.float64)
     if name == "vnv":
         return _vnv(mesh.edges, mesh.vertices, mesh.face_start, mesh.corners, src, directional)
     if name == "eesd":

@@ -65,7 +65,7 @@ def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, 
             S[len(out)] = e
             out.append(e)
     steps = {"visibility": F, "edge_test": mesh.n_edges, "add": len(out)}
-    return np.asarray(out, dtype=np.int64), steps, counter, ties, flags.data.astype(bool)
+    return np.asarray(out, dtype=np.int64), steps, counter, ties, np.asarray(flags.data).astype(bool)
 
 
 def _fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:

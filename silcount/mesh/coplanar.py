@@ -285,7 +285,8 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
         exact[used] = _exact_ints(V[used], shift)
         for lo in range(0, unsure.size, _CHUNK):  # bounded memory for the object arrays
             part = unsure[lo : lo + _CHUNK]
-            zero = _orient3d_exact_zero(*(exact[first3[t_plane[part], i]] for i in range(3)), exact[t_point[part]])
+            a, b, c = (exact[first3[t_plane[part], i]] for i in range(3))
+            zero = _orient3d_exact_zero(a, b, c, exact[t_point[part]])
             off_plane[part[~zero]] = True
     coplanar = np.ones(e.size, dtype=bool)
     coplanar[t_pair[off_plane]] = False

@@ -7,6 +7,9 @@ series serves size sweeps.
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
+
 import numpy as np
 
 from silcount.errors import BadArgument
@@ -85,14 +88,14 @@ def torus(major: float = 1.0, minor: float = 0.35, n_major: int = 24, n_minor: i
     return from_polygons(v, f, name="torus")
 
 
-BUILTIN = {
+BUILTIN: dict[str, Callable[[], Mesh]] = {
     "tetrahedron": tetrahedron,
     "quad_cube": quad_cube,
     "triangle_cube": triangle_cube,
     "icosahedron": icosahedron,
     "plane": plane,
     "torus": torus,
-    **{f"icosphere{k}": (lambda k=k: icosphere(k)) for k in range(0, 6)},
+    **{f"icosphere{k}": functools.partial(icosphere, k) for k in range(0, 6)},
 }
 
 

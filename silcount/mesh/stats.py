@@ -113,7 +113,10 @@ def mesh_statistics(mesh: Mesh) -> dict:
 
 
 def coplanar_polygons(mesh: Mesh) -> dict:
-    """HSD's polygons: adjacent, exactly coplanar, same-orientation faces merged (:mod:`silcount.mesh.coplanar`, ``tight``)."""
+    """HSD's polygons: adjacent, exactly coplanar, same-orientation faces merged (``tight``).
+
+    See :mod:`silcount.mesh.coplanar`.
+    """
     merged = merge(mesh, "tight")
     return {
         "criterion": merged.criterion,
@@ -129,7 +132,8 @@ def mesh_warnings(stats: dict) -> list[str]:
     out = []
     if stats["boundary_edges"]:
         out.append(
-            f"open mesh: {stats['boundary_edges']} boundary edges (a boundary edge is a silhouette edge iff its face is light-facing)"
+            f"open mesh: {stats['boundary_edges']} boundary edges "
+            "(a boundary edge is a silhouette edge iff its face is light-facing)"
         )
     if stats["nonmanifold_edges"]:
         out.append(f"{stats['nonmanifold_edges']} non-manifold edges (shared by more than two faces)")
@@ -139,7 +143,8 @@ def mesh_warnings(stats: dict) -> list[str]:
         out.append(f"{stats['degenerate_faces']} degenerate (zero-area) faces")
     if stats["zero_normal_faces"]:
         out.append(
-            f"{stats['zero_normal_faces']} faces with a zero normal from their first three corners (ties under every light)"
+            f"{stats['zero_normal_faces']} faces with a zero normal from their first three corners "
+            "(ties under every light)"
         )
     if stats["closed"] and stats["euler_characteristic"] % 2:
         out.append(

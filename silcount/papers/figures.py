@@ -243,5 +243,5 @@ def write_all(out_dir: Path) -> list[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
     table = out_dir / "growth.md"
     write_text(table, exponent_table())
-    with plt.rc_context(STYLE):
+    with plt.rc_context(STYLE):  # type: ignore[arg-type]
         return operations(out_dir) + cycles(out_dir) + growth(out_dir) + growth_by_kind(out_dir) + [table]

@@ -24,13 +24,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from silcount.detectors import DETECTORS
+from silcount.errors import BadArgument, UnreadableInput
+from silcount.mesh.io import FORMATS
 from silcount.study.cache import Cache, default_cache_dir
 from silcount.study.schedule import Item, check_scheduler, run_items
 from silcount.study.tables import document, fits, meshes_frame, rows_frame
 from silcount.study.work import LIGHT_KINDS, Settings
-from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, UnreadableInput
-from silcount.mesh.io import FORMATS
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -29,8 +29,8 @@ from functools import cache
 from pathlib import Path
 
 from silcount.atomic import write_text
-from silcount.study.work import Settings
 from silcount.counting.paper import models_dir
+from silcount.study.work import Settings
 from silcount.version import __version__
 
 

@@ -21,10 +21,10 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from silcount.study.cache import Cache, cache_key
-from silcount.study.work import Settings, audit_task
 from silcount.errors import BadArgument
 from silcount.progress import progress
+from silcount.study.cache import Cache, cache_key
+from silcount.study.work import Settings, audit_task
 
 LOCAL = ("threads", "processes")
 CONNECT_TIMEOUT = "20s"
