@@ -34,12 +34,12 @@ SYMBOL = {"A": "add", "M": "mul", "C": "cmp", "R": "read", "W": "write"}
 def _reported() -> list[tuple[str, str, float]]:
     """``(source, model, FPS)`` as printed, read from the papers' claims in ``models/``."""
     out = []
-    for claim in models.load("eesd2012-paper")["claims"]:
-        if claim["id"] == "eesd-fps":
+    for claim in models.load("eesd2012-claims")["claims"]:
+        if claim["id"] == "eesd-fps-frame":
             out += [("EESD 2012 Sec. 6", mdl, float(v)) for mdl, v in claim["fps"].items()]
-    for claim in models.load("hsd2011-paper")["claims"]:
-        if claim["id"] == "hsd-fps":
-            out.append(("HSD 2011 Sec. VIII (bunny)", "hsd2011-hsd", float(claim["proposed"])))
+    for claim in models.load("hsd2011-claims")["claims"]:
+        if claim["id"] == "hsd-fps-frame":
+            out += [("HSD 2011 Sec. VIII (bunny)", mdl, float(v)) for mdl, v in claim["fps"].items()]
     return out
 
 
