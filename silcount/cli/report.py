@@ -11,7 +11,7 @@ Deterministic: the audits written here carry no wall times (``time_s`` is
 
 Parallel: the parts (and the audit of each mesh) are independent, so they
 run in a pool of worker processes, one per available core (``spawn``ed:
-no numba thread pool is forked); each writes only its own files, and the
+no numba thread pool is forked; numba single-threaded in each); each writes only its own files, and the
 listing is printed in the fixed order below whatever the finishing order.
 A failing part fails the command with one line naming it.
 """
@@ -83,6 +83,13 @@ def _run_part(name: str, fn: Callable[..., list[Path]], *args) -> list[Path]:
         raise PartFailed(f"part {name} failed: {type(exc).__name__}: {exc}") from exc
 
 
+def _one_thread() -> None:
+    """Worker initialiser: numba kernels single-threaded (the pool is the parallelism; no oversubscription)."""
+    import numba
+
+    numba.set_num_threads(1)
+
+
 def _workers() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
@@ -93,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
         raise BadArgument(f"--out {out}: not a directory")
     tasks: list[tuple[str, Callable[..., list[Path]], tuple]] = [(name, fn, (out,)) for name, fn in PARTS]
     tasks += [(f"audit {mesh}", audit_one, (out, mesh)) for mesh in REPORT_MESHES]
-    with ProcessPoolExecutor(_workers(), mp_context=mp.get_context("spawn")) as pool:
+    with ProcessPoolExecutor(_workers(), mp_context=mp.get_context("spawn"), initializer=_one_thread) as pool:
         futures = [pool.submit(_run_part, name, fn, *a) for name, fn, a in tasks]
         done = [f.result() for f in futures]  # in task order; the first failure is raised here
     listing = {name: paths for (name, _, _), paths in zip(tasks, done, strict=True)}
