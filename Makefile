@@ -21,6 +21,7 @@ install: $(STAMP)
 ## The main job: regenerate everything under reports/ from built-in data.
 report: $(STAMP)
 	$(BIN)/silcount report --out reports
+	$(BIN)/python scripts/readme_findings.py
 
 ## The test suite (meshes from ../shared/data when SILCOUNT_MESH_DIR is set).
 test: $(STAMP)
