@@ -7,6 +7,7 @@ STAMP := $(VENV)/.installed
 # Nothing is written into the source tree: numba's cache and Python's bytecode go under .venv.
 export NUMBA_CACHE_DIR := $(CURDIR)/$(VENV)/cache/numba
 export PYTHONPYCACHEPREFIX := $(CURDIR)/$(VENV)/cache/pycache
+export HYPOTHESIS_STORAGE_DIRECTORY := $(CURDIR)/$(VENV)/cache/hypothesis
 
 .PHONY: report test lint install clean mutation
 
