@@ -67,7 +67,8 @@ def rows_frame(labels: list[str], results: list[dict]) -> pd.DataFrame:
     records = []
     for label, res in zip(labels, results):
         head = {"file": label, "level": res["level"], "sha256": res["sha256"], "faces": res["mesh"].get("faces")}
-        records += [{**head, **row} for row in res["rows"]]
+        # row keys in one canonical order: a cached result (JSON, sorted keys) and a fresh one give one table
+        records += [{**head, **dict(sorted(row.items()))} for row in res["rows"]]
     frame = pd.DataFrame.from_records(records)
     if frame.empty:
         return frame
