@@ -23,28 +23,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from silcount.atomic import atomic_path, write_text  # noqa: E402
+from silcount.atomic import write_text  # noqa: E402
 from silcount.counting.cycles import builtin_profiles  # noqa: E402
 from silcount.detectors import DETECTORS  # noqa: E402
 from silcount.papers import formulas as F  # noqa: E402
 from silcount.papers import growth as sweep  # noqa: E402
+from silcount.plots import STYLE, save_figure  # noqa: E402
 
 POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
 ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
 KINDS = (("mul", "Mult"), ("add", "Add"), ("cmp", "Compare"), ("read", "Read"), ("write", "Write"))
 COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555"}
-STYLE = {"svg.hashsalt": "silcount", "font.size": 10, "axes.grid": True, "grid.alpha": 0.3, "axes.axisbelow": True}
-
-
-def _save(fig, out_dir: Path, stem: str) -> list[Path]:
-    paths = []
-    for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
-        path = out_dir / f"{stem}.{ext}"
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, format=ext, dpi=110, metadata=meta, bbox_inches="tight")
-        paths.append(path)
-    plt.close(fig)
-    return paths
 
 
 def _value(model: str, which: str, point: dict) -> dict[str, float]:
@@ -75,7 +64,7 @@ def operations(out_dir: Path) -> list[Path]:
     )
     fig.tight_layout(rect=(0, 0, 1, 0.93))
     fig.legend(handles, labels, title="algorithm", ncols=4, loc="upper center", bbox_to_anchor=(0.5, 0.935), fontsize=9)
-    return _save(fig, out_dir, "operations")
+    return save_figure(fig, out_dir, "operations")
 
 
 CYCLE_PANELS = ("paper", "unit", "skylake-latency", "znver3-latency")
@@ -115,7 +104,7 @@ def cycles(out_dir: Path) -> list[Path]:
     fig.legend(handles, ["as printed", "corrected"], loc="upper right", ncols=2)
     fig.suptitle("Cycle-weighted totals per algorithm and cycle profile", x=0.4)
     fig.tight_layout()
-    return _save(fig, out_dir, "cycles")
+    return save_figure(fig, out_dir, "cycles")
 
 
 def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
@@ -158,7 +147,7 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
         "HSD equals TA here: icospheres have no coplanar neighbours to merge"
     )
     fig.tight_layout()
-    return _save(fig, out_dir, "growth")
+    return save_figure(fig, out_dir, "growth")
 
 
 def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
@@ -201,7 +190,7 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
         "(icosphere sweep, log-log; legend: fitted exponent b in count ~ F^b)"
     )
     fig.tight_layout()
-    return _save(fig, out_dir, "growth_by_kind")
+    return save_figure(fig, out_dir, "growth_by_kind")
 
 
 def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:

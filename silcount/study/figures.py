@@ -16,35 +16,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from silcount.atomic import atomic_path
+from silcount.plots import STYLE, save_figure
 
-STYLE: dict[str, Any] = {
-    "svg.hashsalt": "silcount",
-    "font.size": 10,
-    "axes.grid": True,
-    "grid.alpha": 0.3,
-    "axes.axisbelow": True,
-}
 KIND_COLOURS = {"closed": "#1b6ca8", "open": "#d1495b", "flat": "#2e933c"}
 LEVEL_MARKERS = ("o", "s", "^", "D", "v")
 RUN_COLOURS = ("#555555", "#1b6ca8", "#d1495b", "#edae49", "#2e933c", "#7b4ea3", "#e07a1f", "#3aa5a5", "#a0522d")
-
-
-def _save(fig, out_dir: Path, stem: str) -> list[Path]:
-    import matplotlib.pyplot as plt
-
-    paths = []
-    for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
-        path = out_dir / f"{stem}.{ext}"
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, format=ext, dpi=110, metadata=meta, bbox_inches="tight")
-        paths.append(path)
-    plt.close(fig)
-    return paths
 
 
 def _line(ax, fit: dict | None, xs: np.ndarray, label: str, **kw) -> None:
@@ -89,7 +68,7 @@ def silhouette(meshes, fits: dict, out_dir: Path) -> list[Path]:
     ax.set_ylabel("silhouette edges (mean over lights)")
     ax.set_title("Silhouette size against face count")
     ax.legend(fontsize=7, loc="upper left")
-    return _save(fig, out_dir, "silhouette")
+    return save_figure(fig, out_dir, "silhouette")
 
 
 def operations(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Path]:
@@ -116,7 +95,7 @@ def operations(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Path]
         ax.set_ylabel("operations per light")
         ax.set_title(f"{model} cost model")
         ax.legend(fontsize=7, loc="upper left")
-    return _save(fig, out_dir, "operations")
+    return save_figure(fig, out_dir, "operations")
 
 
 def hsd_merge(meshes, out_dir: Path) -> list[Path]:
@@ -135,7 +114,7 @@ def hsd_merge(meshes, out_dir: Path) -> list[Path]:
     ax.set_ylabel("HSD's saving over TA: 1 - HSD/TA (operations per light)")
     ax.set_title("Where coplanar merging pays (HSD 2011 Sec. VII, 'buildings')")
     ax.legend(fontsize=8)
-    return _save(fig, out_dir, "hsd_merge")
+    return save_figure(fig, out_dir, "hsd_merge")
 
 
 def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Path]:
