@@ -18,7 +18,8 @@ import pytest
 PKG = Path(__file__).resolve().parent.parent / "silcount"
 
 LAYERS: list[tuple[str, ...]] = [
-    ("silcount.errors", "silcount.version", "silcount.atomic", "silcount.progress", "silcount.plots"),
+    ("silcount.errors", "silcount.version", "silcount.atomic", "silcount.progress"),
+    ("silcount.plots",),
     ("silcount.counting",),
     ("silcount.mesh",),
     ("silcount.detectors",),
