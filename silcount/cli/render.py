@@ -220,6 +220,14 @@ def report(out_dir: Path) -> list[Path]:
     return written
 
 
+def _mismatch_row(scene: str, what: str, m: dict) -> str:
+    """One Markdown row of a mask compared with ray casting."""
+    return (
+        f"| {scene} | {what} | {m['shadow_pixels']} | {m['mismatched']} | {m['fraction']:.6f} "
+        f"| {m['far_mismatches']} | {'yes' if m['matches'] else 'NO'} |"
+    )
+
+
 def summary_markdown(summary: dict) -> str:
     lines = [
         "# Shadow masks of the shared scenes against ray casting",
@@ -231,11 +239,7 @@ def summary_markdown(summary: dict) -> str:
         "|---|---|---:|---:|---:|---:|---|",
     ]
     for scene, e in summary["scenes"].items():
-        for method, m in e["methods"].items():
-            lines.append(
-                f"| {scene} | {method} | {m['shadow_pixels']} | {m['mismatched']} | {m['fraction']:.6f} "
-                f"| {m['far_mismatches']} | {'yes' if m['matches'] else 'NO'} |"
-            )
+        lines += [_mismatch_row(scene, method, m) for method, m in e["methods"].items()]
     lines += [
         "",
         "## The stencil paper's literal steps",
@@ -247,11 +251,7 @@ def summary_markdown(summary: dict) -> str:
         "|---|---|---:|---:|---:|---:|---|",
     ]
     for scene, e in summary["scenes"].items():
-        for key, m in e["literal_steps"].items():
-            lines.append(
-                f"| {scene} | {key} | {m['shadow_pixels']} | {m['mismatched']} | {m['fraction']:.6f} "
-                f"| {m['far_mismatches']} | {'yes' if m['matches'] else 'NO'} |"
-            )
+        lines += [_mismatch_row(scene, key, m) for key, m in e["literal_steps"].items()]
     lines += [
         "",
         "## z-fail masks per detector",
