@@ -43,3 +43,22 @@ def test_random_points_near_one_plane():
     got = zeros_per_point(pts, planes)
     assert np.array_equal(got, brute_force(pts, planes))
     assert got[:2000].min() == 2 and got[2000:].max() < 2
+
+
+def test_zeros_in_every_packet_position():
+    # Axis planes scattered among 2,000 random ones land at every position of a packet and in many
+    # packets, so the per-plane alive flags, the padding of the last packet and the stripes are all used.
+    rng = np.random.default_rng(2)
+    g = np.arange(-8, 9) / 8.0
+    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    pts = np.concatenate([pts, rng.normal(size=(3000, 3))])
+    planes = rng.normal(size=(2003, 4))
+    where = rng.choice(len(planes), size=150, replace=False)
+    for j in where:
+        n = np.zeros(3)
+        n[rng.integers(3)] = rng.choice([1.0, -2.0, 0.5])
+        planes[j] = [*n, -n.sum() * rng.choice(g)]
+    got = zeros_per_point(pts, planes)
+    expected = brute_force(pts, planes)
+    assert np.array_equal(got, expected)
+    assert expected.sum() >= 150 * 17 * 17

@@ -6,7 +6,7 @@ count the pairs that test true without evaluating ``E x F`` of them, the
 points go into a bounding-box tree (Morton order, 16 points per leaf) and
 each plane walks it, pruning every box on which the test cannot return zero.
 Planes walk in packets of :data:`PACKET` consecutive ones (one traversal,
-each stack entry carrying the bit mask of the planes still alive in it), the
+each stack entry carrying which planes are still alive in it), the
 packets in parallel (numba ``prange``): every plane makes exactly the prune
 decisions and point tests of a walk of its own, so the counts are the same.
 
@@ -27,7 +27,9 @@ import numba as nb
 import numpy as np
 
 LEAF = 16
-PACKET = 32  # planes walked together (consecutive faces: neighbours on most meshes)
+PACKET = 64  # planes walked together (consecutive faces: neighbours on most meshes)
+_STRIPES = 256  # interleaved groups of packets handed to the threads
+_DEPTH = 128  # stack entries: two per tree level, far more than a tree of 2^63 leaves needs
 _SLACK = 1e-14
 
 
@@ -79,78 +81,98 @@ def _node_data(lo, hi):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def _walk(planes, first, n, pts, centre, half, big, empty, size, out, count_only):  # pragma: no cover - compiled
-    """Walk the tree with the packet of planes ``first .. first + n - 1`` (n <= 64) at once.
+def _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, out, count_only):  # pragma: no cover
+    """Walk the tree with the packet of planes ``first .. first + n - 1`` (n <= PACKET) at once.
 
-    Each stack entry carries the planes still alive in it (a bit mask): a plane
-    leaves a node's subtree when its own prune test (the single-plane test of
-    the module docstring, unchanged) rejects the node; a node is skipped when no
-    plane is left.  Returns how many (point, plane) zeros were found; unless
-    ``count_only``, writes each zero's point position to ``out``.
+    Each stack entry carries one byte per plane, 1 while the plane is alive in
+    it: a plane leaves a node's subtree when its own prune test (the
+    single-plane test of the module docstring, unchanged) rejects the node; a
+    node is skipped when no plane is left.  The prune test runs branch-free
+    over the whole packet, and the leaf test over a leaf's points held as
+    separate x, y, z arrays, so both loops vectorise.  Returns how many
+    (point, plane) zeros were found; unless ``count_only``, writes each zero's
+    point position to ``out``.
     """
-    stack = np.empty(64, dtype=np.int64)
-    masks = np.empty(64, dtype=np.uint64)
+    stack = np.empty(_DEPTH, dtype=np.int64)
+    alive_in = np.zeros((_DEPTH, PACKET), dtype=np.uint8)
+    pa, pb, pc, pd = np.zeros(PACKET), np.zeros(PACKET), np.zeros(PACKET), np.zeros(PACKET)
+    qa, qb, qc, qd = np.zeros(PACKET), np.zeros(PACKET), np.zeros(PACKET), np.zeros(PACKET)
+    # padding planes (j >= n) are all zero and never alive
+    last = first + n
+    pa[:n], pb[:n], pc[:n], pd[:n] = (
+        planes[first:last, 0],
+        planes[first:last, 1],
+        planes[first:last, 2],
+        planes[first:last, 3],
+    )
+    qa[:n], qb[:n], qc[:n], qd[:n] = absp[first:last, 0], absp[first:last, 1], absp[first:last, 2], absp[first:last, 3]
+    alive_in[0, :n] = 1
+    alive = np.zeros(PACKET, dtype=np.uint8)
     stack[0] = 1
-    masks[0] = (np.uint64(1) << np.uint64(n)) - np.uint64(1) if n < 64 else ~np.uint64(0)
-    top, found = 1, 0
+    top, found, n_points = 1, 0, xs.shape[0]
     while top > 0:
         top -= 1
         node = stack[top]
-        mask = masks[top]
         if empty[node]:
             continue  # an empty padding node
         cx, cy, cz = centre[node, 0], centre[node, 1], centre[node, 2]
         hx, hy, hz = half[node, 0], half[node, 1], half[node, 2]
         bx, by, bz = big[node, 0], big[node, 1], big[node, 2]
-        alive = np.uint64(0)
-        for j in range(n):
-            bit = np.uint64(1) << np.uint64(j)
-            if not (mask & bit):
-                continue
-            a, b, c, d = planes[first + j, 0], planes[first + j, 1], planes[first + j, 2], planes[first + j, 3]
-            reach = abs(a) * hx + abs(b) * hy + abs(c) * hz
-            bound = abs(a) * bx + abs(b) * by + abs(c) * bz + abs(d)
-            value = a * cx + b * cy + c * cz + d
-            if not (abs(value) - reach > _SLACK * bound + 1e-300):
-                alive |= bit
-        if alive == 0:
+        any_alive = np.uint8(0)
+        for j in range(PACKET):
+            reach = qa[j] * hx + qb[j] * hy + qc[j] * hz
+            bound = qa[j] * bx + qb[j] * by + qc[j] * bz + qd[j]
+            value = pa[j] * cx + pb[j] * cy + pc[j] * cz + pd[j]
+            pruned = abs(value) - reach > _SLACK * bound + 1e-300
+            a = alive_in[top, j] & np.uint8(0 if pruned else 1)
+            alive[j] = a
+            any_alive |= a
+        if any_alive == 0:
             continue
         if node >= size:
-            leaf = node - size
-            for i in range(leaf * LEAF, min((leaf + 1) * LEAF, pts.shape[0])):
-                x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
-                for j in range(n):
-                    if alive & (np.uint64(1) << np.uint64(j)):
-                        if (
-                            planes[first + j, 0] * x
-                            + planes[first + j, 1] * y
-                            + planes[first + j, 2] * z
-                            + planes[first + j, 3]
-                            == 0.0
-                        ):
-                            if not count_only:
+            lo = (node - size) * LEAF
+            hi = min(lo + LEAF, n_points)
+            for j in range(n):
+                if alive[j]:
+                    a, b, c, d = pa[j], pb[j], pc[j], pd[j]
+                    zeros = 0
+                    for i in range(lo, hi):
+                        zeros += a * xs[i] + b * ys[i] + c * zs[i] + d == 0.0
+                    if zeros and not count_only:
+                        for i in range(lo, hi):
+                            if a * xs[i] + b * ys[i] + c * zs[i] + d == 0.0:
                                 out[found] = i
-                            found += 1
+                                found += 1
+                    elif zeros:
+                        found += zeros
         else:
-            stack[top] = 2 * node
-            masks[top] = alive
-            stack[top + 1] = 2 * node + 1
-            masks[top + 1] = alive
+            stack[top], stack[top + 1] = 2 * node, 2 * node + 1
+            alive_in[top, :] = alive
+            alive_in[top + 1, :] = alive
             top += 2
     return found
 
 
 @nb.njit(cache=True, parallel=True)
-def _search(planes, pts, lo, hi, size):  # pragma: no cover - compiled
-    """Point positions of every zero, by packets of :data:`PACKET` consecutive planes, packets in parallel."""
+def _search(planes, xs, ys, zs, lo, hi, size):  # pragma: no cover - compiled
+    """Point positions of every zero, by packets of :data:`PACKET` consecutive planes, packets in parallel.
+
+    The packets are dealt to :data:`_STRIPES` interleaved stripes (packet k to
+    stripe k mod _STRIPES) so that both cores get a similar mix of cheap and
+    dear packets; each packet's count and hits are its own, so the result does
+    not depend on the schedule.
+    """
     F = planes.shape[0]
+    absp = np.abs(planes)
     centre, half, big, empty = _node_data(lo, hi)
     n_packets = (F + PACKET - 1) // PACKET
     counts = np.zeros(n_packets, dtype=np.int64)
     dummy = np.empty(0, dtype=np.int64)
-    for k in nb.prange(n_packets):
-        first = k * PACKET
-        counts[k] = _walk(planes, first, min(PACKET, F - first), pts, centre, half, big, empty, size, dummy, True)
+    for s in nb.prange(_STRIPES):
+        for k in range(s, n_packets, _STRIPES):
+            first = k * PACKET
+            n = min(PACKET, F - first)
+            counts[k] = _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, dummy, True)
     start = np.zeros(n_packets + 1, dtype=np.int64)
     for k in range(n_packets):
         start[k + 1] = start[k] + counts[k]
@@ -159,7 +181,8 @@ def _search(planes, pts, lo, hi, size):  # pragma: no cover - compiled
         if counts[k]:
             first = k * PACKET
             n = min(PACKET, F - first)
-            _walk(planes, first, n, pts, centre, half, big, empty, size, hits[start[k] : start[k + 1]], False)
+            out = hits[start[k] : start[k + 1]]
+            _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, out, False)
     return hits
 
 
@@ -178,7 +201,8 @@ def zeros_per_point(points: np.ndarray, planes: np.ndarray) -> np.ndarray:
     n_leaves = -(-len(pts) // LEAF)
     size = 1 << max(0, int(np.ceil(np.log2(n_leaves))))
     lo, hi = _boxes(pts, n_leaves, size)
-    hits = _search(np.ascontiguousarray(planes, dtype=np.float64), pts, lo, hi, size)
+    xs, ys, zs = (np.ascontiguousarray(pts[:, k]) for k in range(3))
+    hits = _search(np.ascontiguousarray(planes, dtype=np.float64), xs, ys, zs, lo, hi, size)
     np.add.at(out, order[hits], 1)
     return out
 
