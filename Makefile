@@ -35,18 +35,13 @@ lint: $(STAMP)
 	$(BIN)/mypy silcount
 
 ## Mutation testing (slow, not part of CI): mutmut 2 over the detectors, the counting layer (arithmetic, the
-## cost-model loader paper.py, cycles) and the re-derivation (papers/formulas.py), each mutant judged by the
-## hand-counted tests (property tests deselected: -m 'not hypothesis').  mutmut edits the tree in place and restores
-## it; `$(BIN)/mutmut show <id>` prints a survivor.  MUTATE=<paths> narrows the run.
-MUTATE ?= silcount/detectors/,silcount/counting/,silcount/papers/formulas.py
-MUTATION_TESTS := tests/test_arithmetic.py tests/test_models_dir.py tests/test_edge_rules.py tests/test_coplanar_counted.py tests/test_vnv.py tests/test_reference.py \
-	tests/test_ta.py tests/test_hsd.py tests/test_eesd.py tests/test_formulas.py tests/test_audit.py
+## cost-model loader paper.py, cycles) and the re-derivation (papers/formulas.py), each module judged by its own
+## hand-counted tests (scripts/mutation.py holds the selection).  mutmut edits the tree in place and restores it.
+## MUTATE="<module> ..." narrows the run.
+MUTATE ?=
 mutation: $(STAMP)
 	$(BIN)/python -m pip install --quiet 'mutmut>=2.4,<3'
-	-$(BIN)/mutmut run --paths-to-mutate '$(MUTATE)' --tests-dir tests --no-progress \
-		--runner "$(abspath $(BIN))/python -m pytest -x -q -p no:cacheprovider -m 'not hypothesis' \
-		-k 'not torus and not soup and not match_the_committed' $(MUTATION_TESTS)"
-	$(BIN)/mutmut results
+	$(BIN)/python scripts/mutation.py $(MUTATE)
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -101,29 +101,54 @@ def _pair_kernel(flags, pair_faces):  # pragma: no cover - compiled
 
 
 @njit(cache=True, parallel=True)
-def _facing_bits_kernel(p0, nrm, lights, directional):  # pragma: no cover - compiled
-    """Bit ``j`` of word ``p``: face ``p`` faces light ``j`` (<= 64 lights), as :func:`_facing_kernel`."""
-    F, L = p0.shape[0], lights.shape[0]
+def _facing_bits_kernel(p0, nrm, dirs, dir_bit, points, point_bit):  # pragma: no cover - compiled
+    """Bit ``j`` of word ``p``: face ``p`` faces light ``j`` (<= 64 lights), as :func:`_facing_kernel`.
+
+    The directional lights (``dirs[k]``, bit ``dir_bit[k]``) and the point
+    lights (``points[k]``, bit ``point_bit[k]``) each get a branch-free loop,
+    with :func:`_facing_kernel`'s arithmetic (``d . n`` and ``(L - p0) . n``).
+    Returns the words and the ties per bit.
+    """
+    F, nd, npt = p0.shape[0], dirs.shape[0], points.shape[0]
     bits = np.zeros(F, dtype=np.uint64)
     n_chunks = (F + _CHUNK - 1) // _CHUNK
-    ties = np.zeros((n_chunks, L), dtype=np.int64)
+    ties_d = np.zeros((n_chunks, nd), dtype=np.int64)
+    ties_p = np.zeros((n_chunks, npt), dtype=np.int64)
+    dx, dy, dz = dirs[:, 0].copy(), dirs[:, 1].copy(), dirs[:, 2].copy()
+    lx, ly, lz = points[:, 0].copy(), points[:, 1].copy(), points[:, 2].copy()
     for c in prange(n_chunks):
         for p in range(c * _CHUNK, min(F, (c + 1) * _CHUNK)):
             x, y, z = p0[p, 0], p0[p, 1], p0[p, 2]
             nx, ny, nz = nrm[p, 0], nrm[p, 1], nrm[p, 2]
             word = np.uint64(0)
-            for j in range(L):
-                if directional[j]:
-                    dx, dy, dz = lights[j, 0], lights[j, 1], lights[j, 2]
-                else:
-                    dx, dy, dz = lights[j, 0] - x, lights[j, 1] - y, lights[j, 2] - z
-                dot = dx * nx + dy * ny + dz * nz
-                if dot > 0.0:
-                    word |= np.uint64(1) << np.uint64(j)
-                elif dot == 0.0:
-                    ties[c, j] += 1
+            for k in range(nd):
+                dot = dx[k] * nx + dy[k] * ny + dz[k] * nz
+                word |= np.uint64(dot > 0.0) << dir_bit[k]
+                ties_d[c, k] += dot == 0.0
+            for k in range(npt):
+                dot = (lx[k] - x) * nx + (ly[k] - y) * ny + (lz[k] - z) * nz
+                word |= np.uint64(dot > 0.0) << point_bit[k]
+                ties_p[c, k] += dot == 0.0
             bits[p] = word
-    return bits, ties.sum(axis=0)
+    ties = np.zeros(nd + npt, dtype=np.int64)
+    ties[dir_bit.astype(np.int64)] = ties_d.sum(axis=0)
+    ties[point_bit.astype(np.int64)] = ties_p.sum(axis=0)
+    return bits, ties
+
+
+_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
+_DEBRUIJN_BIT = np.array(
+    [0, 1, 48, 2, 57, 49, 28, 3, 61, 58, 50, 42, 38, 29, 17, 4, 62, 55, 59, 36, 53, 51, 43, 22, 45, 39, 33, 30, 24, 18,
+     12, 5, 63, 47, 56, 27, 60, 41, 37, 16, 54, 35, 52, 21, 44, 32, 23, 11, 46, 26, 40, 15, 34, 20, 31, 10, 25, 14, 19,
+     9, 13, 8, 7, 6],
+    dtype=np.int64,
+)  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _lowest_bit(x):  # pragma: no cover - compiled
+    """Position of the lowest set bit of ``x != 0`` (de Bruijn multiplication)."""
+    return _DEBRUIJN_BIT[((x & (~x + np.uint64(1))) * _DEBRUIJN) >> np.uint64(58)]
 
 
 @njit(cache=True, parallel=True)
@@ -132,15 +157,14 @@ def _pair_bits_kernel(bits, pair_faces, n_lights):  # pragma: no cover - compile
     E = pair_faces.shape[0]
     n_chunks = (E + _CHUNK - 1) // _CHUNK
     counts = np.zeros((n_chunks, n_lights), dtype=np.int64)
+    xor = np.empty(E, dtype=np.uint64)  # kept for the second pass: a sequential read instead of two gathers
     for c in prange(n_chunks):
         for e in range(c * _CHUNK, min(E, (c + 1) * _CHUNK)):
             x = bits[pair_faces[e, 0]] ^ bits[pair_faces[e, 1]]
-            j = 0
+            xor[e] = x
             while x:
-                if x & np.uint64(1):
-                    counts[c, j] += 1
-                x >>= np.uint64(1)
-                j += 1
+                counts[c, _lowest_bit(x)] += 1
+                x &= x - np.uint64(1)
     offset = np.zeros((n_chunks, n_lights), dtype=np.int64)  # where chunk c's ids of light j start
     start = np.zeros(n_lights + 1, dtype=np.int64)
     for j in range(n_lights):
@@ -155,14 +179,12 @@ def _pair_bits_kernel(bits, pair_faces, n_lights):  # pragma: no cover - compile
         for j in range(n_lights):
             pos[j] = start[j] + offset[c, j]
         for e in range(c * _CHUNK, min(E, (c + 1) * _CHUNK)):
-            x = bits[pair_faces[e, 0]] ^ bits[pair_faces[e, 1]]
-            j = 0
+            x = xor[e]
             while x:
-                if x & np.uint64(1):
-                    out[pos[j]] = e
-                    pos[j] += 1
-                x >>= np.uint64(1)
-                j += 1
+                j = _lowest_bit(x)
+                out[pos[j]] = e
+                pos[j] += 1
+                x &= x - np.uint64(1)
     return start, out
 
 
@@ -181,16 +203,20 @@ def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> t
 def edge_ids_of(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
     """Ids of the edges with exactly one light-facing incident face, ascending: the reference rule."""
     _, _, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)
-    return _with_other_edges(two_ids, _pair_kernel(is_facing, pair_faces), other, o_start, o_faces, is_facing)
+    ids = _pair_kernel(is_facing, pair_faces)
+    return _with_other_edges(two_ids, ids, other, o_start, None if two_ids is None else is_facing[o_faces])
 
 
-def _with_other_edges(two_ids, ids, other, o_start, o_faces, is_facing) -> np.ndarray:
-    """Two-sided edges' ids (positions among them) to edge ids, with the other edges that pass the rule."""
+def _with_other_edges(two_ids, ids, other, o_start, other_facing) -> np.ndarray:
+    """Two-sided edges' ids (positions among them) to edge ids, with the other edges that pass the rule.
+
+    ``other_facing``: the facing flags of the other edges' faces (``o_faces``).
+    """
     if two_ids is None:
         return ids
     ids = two_ids[ids]
     if other.size:
-        per_edge = np.add.reduceat(is_facing[o_faces].astype(np.int64), o_start[:-1])
+        per_edge = np.add.reduceat(other_facing.astype(np.int64), o_start[:-1])
         ids = np.sort(np.concatenate([ids, other[per_edge == 1]]))  # disjoint sets
     return ids
 
@@ -208,19 +234,23 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
 
     Each face's facing flags for up to 64 lights are one ``uint64`` (computed as
     :func:`facing_flags` does); one pass over the two-sided edges XORs their two
-    faces' words, and each set bit is a silhouette edge of that light.
+    faces' words, and each set bit is a silhouette edge of that light.  Boundary
+    and non-manifold edges count their faces' bits per light.
     """
     p0, nrm, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)
     out = []
     for lo in range(0, len(lights), BATCH):
         batch = lights[lo : lo + BATCH]
-        pos = np.array([L.direction if isinstance(L, DirectionalLight) else L.position for L in batch])
         directional = np.array([isinstance(L, DirectionalLight) for L in batch])
-        bits, ties = _facing_bits_kernel(p0, nrm, pos.reshape(-1, 3), directional)
+        pos = np.array([L.direction if d else L.position for L, d in zip(batch, directional, strict=True)])
+        dirs, points = pos[directional].reshape(-1, 3), pos[~directional].reshape(-1, 3)
+        dir_bit, point_bit = (np.flatnonzero(m).astype(np.uint64) for m in (directional, ~directional))
+        bits, ties = _facing_bits_kernel(p0, nrm, dirs, dir_bit, points, point_bit)
         start, ids = _pair_bits_kernel(bits, pair_faces, len(batch))
+        other_bits = bits[o_faces]
         for j in range(len(batch)):
-            flags = facing_of_bits(bits, j) if other.size else None
-            mine = _with_other_edges(two_ids, ids[start[j] : start[j + 1]], other, o_start, o_faces, flags)
+            flags = ((other_bits >> np.uint64(j)) & np.uint64(1)).astype(bool) if other.size else None
+            mine = _with_other_edges(two_ids, ids[start[j] : start[j + 1]], other, o_start, flags)
             out.append((mine, int(ties[j]), bits, j))
     return out
 
