@@ -242,7 +242,7 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
     for lo in range(0, len(lights), BATCH):
         batch = lights[lo : lo + BATCH]
         directional = np.array([isinstance(L, DirectionalLight) for L in batch])
-        pos = np.array([L.direction if d else L.position for L, d in zip(batch, directional, strict=True)])
+        pos = np.array([L.vector for L in batch], dtype=np.float64)
         dirs, points = pos[directional].reshape(-1, 3), pos[~directional].reshape(-1, 3)
         dir_bit, point_bit = (np.flatnonzero(m).astype(np.uint64) for m in (directional, ~directional))
         bits, ties = _facing_bits_kernel(p0, nrm, dirs, dir_bit, points, point_bit)
