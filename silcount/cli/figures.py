@@ -14,11 +14,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def report(out_dir: Path) -> list[Path]:
-    """Write every figure under ``<out_dir>/figures/`` (used by `silcount report`)."""
+# The figures `silcount report` writes, one part each (silcount.papers.figures.PARTS, dearest first).
+PARTS = ("growth_by_kind", "operations", "cycles", "growth", "growth_table")
+
+
+def report(out_dir: Path, name: str) -> list[Path]:
+    """Write figure ``name`` under ``<out_dir>/figures/`` (a part of `silcount report`)."""
     from silcount.papers.figures import report as write
 
-    return write(out_dir)
+    return write(out_dir, name)
 
 
 def run(args: argparse.Namespace) -> int:
