@@ -43,3 +43,85 @@ def test_naive_equals_fast_to_the_unit(ml):
     b = silcount.detect(mesh, light, "reference", engine="naive")
     assert np.array_equal(a.edges, b.edges) and np.array_equal(a.oriented, b.oriented)
     assert a.tally == b.tally and a.steps == b.steps and a.ties == b.ties
+
+
+# One counted_visibility, by hand (as in test_ta.py): point light 16 R 14 A 9 M 1 C; directional 3 A fewer.
+VIS_POINT = {"read": 16, "add": 14, "mul": 9, "cmp": 1}
+
+
+def test_tetrahedron_tally_by_hand():
+    # The loops of the reference (reference._naive): per face one visibility and one flag write;
+    # per edge edge_start[e], edge_start[e+1] (2 R) and count == 1 (1 C); per side (12 of them) the
+    # face id and its flag (2 R) and count + (1 A); per silhouette edge one write.  Tetrahedron
+    # (F 4, E 6, 12 sides), light beyond the apex: 3 faces lit, 3 silhouette edges.
+    m = silcount.builtin_mesh("tetrahedron")
+    for light, vis_add in ((silcount.PointLight((5.0, 5.0, 5.0)), 14), (silcount.DirectionalLight((1, 1, 1)), 11)):
+        for engine in ("naive", "fast"):
+            res = silcount.detect(m, light, "reference", engine=engine)
+            assert res.steps == {"visibility": 4, "edge_test": 6, "add": 3}
+            assert res.tally["true"] == {
+                "read": 4 * 16 + 6 * 2 + 12 * 2,
+                "add": 4 * vis_add + 12,
+                "mul": 4 * 9,
+                "cmp": 4 * 1 + 6,
+                "write": 4 + 3,
+            }
+        (many,) = silcount.detect_many(m, [light])
+        assert many.steps == res.steps and many.tally == res.tally
+
+
+def test_defaults_are_the_intended_variant_and_the_fast_engine():
+    from silcount.detectors import reference
+
+    m = silcount.builtin_mesh("quad_cube")
+    light = silcount.PointLight((0.0, 0.0, 10.0))
+    for res in (reference.detect(m, light), reference.detect_many(m, [light])[0]):
+        assert (res.variant, res.engine) == ("intended", "fast")
+
+
+def _two_tetrahedra_sharing_an_edge():
+    # Two closed tetrahedra glued along the edge 0-1 only: that edge has 4 faces (the mesh's one
+    # non-two-sided edge); every other edge has two.
+    v = [[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, 0.5, 1], [0.5, -1, 0], [0.5, -0.5, -1]]
+    a = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+    b = [[0, 1, 4], [0, 5, 1], [1, 5, 4], [0, 4, 5]]
+    return silcount.from_polygons(np.array(v, dtype=float), a + b)
+
+
+def test_a_single_non_manifold_edge():
+    # The rule by hand, face by face: an edge is a silhouette edge iff exactly one of its faces is lit.
+    m = _two_tetrahedra_sharing_an_edge()
+    assert int(np.count_nonzero(m.edge_valence != 2)) == 1
+    lights = [silcount.PointLight((0.3, 4.0, 2.0)), silcount.DirectionalLight((0.2, -1.0, 0.5))]
+    for light in lights:
+        flags = []
+        for f in range(m.n_faces):
+            p = m.vertices[m.corners[m.face_start[f] : m.face_start[f + 1]]]
+            n = np.cross(p[1] - p[0], p[2] - p[0])
+            d = light.direction if isinstance(light, silcount.DirectionalLight) else np.subtract(light.position, p[0])
+            flags.append(float(np.dot(d, n)) > 0)
+        expected = []
+        for e, (u, w) in enumerate(m.edges.tolist()):
+            faces = [f for f in range(m.n_faces) if {u, w} <= set(m.corners[m.face_start[f] : m.face_start[f + 1]])]
+            if sum(flags[f] for f in faces) == 1:
+                expected.append(e)
+        assert expected, "the light must leave a silhouette"
+        for engine in ("naive", "fast"):
+            assert silcount.detect(m, light, "reference", engine=engine).edge_ids.tolist() == expected
+        assert silcount.detect_many(m, [light])[0].edge_ids.tolist() == expected
+
+
+def test_ties_on_a_mesh_of_several_parallel_chunks():
+    # 140,450 coplanar triangles (more than two of the kernels' 65,536-face chunks) and a light
+    # parallel to them: every facing value is exactly 0, so every face is a tie, counted once.
+    n = 265
+    g = np.arange(n + 1, dtype=float)
+    x, y = np.meshgrid(g, g, indexing="ij")
+    v = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
+    faces = np.concatenate([np.column_stack([i, i + n + 1, i + 1]), np.column_stack([i + 1, i + n + 1, i + n + 2])])
+    m = silcount.from_polygons(v, faces)
+    assert m.n_faces == 2 * n * n > 2 * 65536
+    light = silcount.DirectionalLight((1.0, 0.5, 0.0))
+    assert silcount.detect(m, light, "reference").ties == m.n_faces
+    assert silcount.detect_many(m, [light, silcount.DirectionalLight((0.0, 0.0, 1.0))])[0].ties == m.n_faces

@@ -46,6 +46,7 @@ def test_tetrahedron_by_hand():
         res = silcount.detect(m, light, "ta", engine=engine)
         assert res.oriented.tolist() == [[1, 0], [0, 2], [2, 1]]  # rows follow the edge table
         assert res.edges.tolist() == [[0, 1], [0, 2], [1, 2]]
+        assert res.notes["S_length"] == 3 and res.notes["duplicates_in_S"] == 0  # S = [21, 02, 10]
         assert res.steps == {"visibility": 4, "search_S": 9, "delete": 3, "add": 6, "shift": 8}
         # true: 4 visibilities (4 x VIS_POINT); 3 facing faces read face_start twice (6 R);
         # 9 sides read v_p, v_q (18 R) and pack the reverse key (9 M, 9 A); 18 elements read and
@@ -101,7 +102,7 @@ def test_literal_start_by_hand():
     for engine in ("naive", "fast"):
         res = silcount.detect(m, light, "ta", variant="literal", engine=engine)
         assert res.steps == {"visibility": 6, "search_S": 4, "delete": 2, "add": 2, "shift": 6 + 9, "init_S": 12}
-        assert res.n_edges == 10 and res.notes["duplicates_in_S"] == 2
+        assert res.n_edges == 10 and res.notes["duplicates_in_S"] == 2 and res.notes["S_length"] == 12
         assert res.notes["missed_edges"] == 2 and res.notes["extra_edges"] == 8
         # true, beyond the intended run's visibility (6 x VIS_POINT) and facing face (2 R):
         # init 12 x (2R 1M 2A 1W); 4 sides (8R 4M 4A); examined 12+13+8+4 = 37 (37R 37C);
@@ -113,6 +114,13 @@ def test_literal_start_by_hand():
             "cmp": 6 + 37,
             "write": 12 + 15 + 2,
         }
+
+
+def test_defaults_are_the_intended_variant_and_the_fast_engine():
+    from silcount.detectors import ta
+
+    res = ta.detect(_tetra(), silcount.PointLight((5.0, 5.0, 5.0)))
+    assert (res.variant, res.engine, res.n_edges) == ("intended", "fast", 3)
 
 
 def test_paper_worst_case_reproduces_printed_sum():
