@@ -55,49 +55,75 @@ def _precompute(mesh: Mesh) -> tuple:
     return got
 
 
-_CHUNK = 1 << 16  # faces or edges per parallel chunk
+_CHUNK = 1 << 16  # faces or edges per parallel chunk; a mesh of one chunk runs serially
+
+
+@njit(cache=True)
+def _facing_range(p0, nrm, light, directional, flags, lo, hi):  # pragma: no cover - compiled
+    """Flags of faces ``lo .. hi - 1`` into ``flags``; returns their ties."""
+    lx, ly, lz = light[0], light[1], light[2]
+    t = 0
+    for p in range(lo, hi):
+        if directional:
+            dx, dy, dz = lx, ly, lz
+        else:
+            dx, dy, dz = lx - p0[p, 0], ly - p0[p, 1], lz - p0[p, 2]
+        dot = dx * nrm[p, 0] + dy * nrm[p, 1] + dz * nrm[p, 2]
+        flags[p] = dot > 0.0
+        t += dot == 0.0
+    return t
 
 
 @njit(cache=True, parallel=True)
-def _facing_kernel(p0, nrm, light, directional):  # pragma: no cover - compiled
+def _facing_parallel(p0, nrm, light, directional, flags):  # pragma: no cover - compiled
     F = p0.shape[0]
-    flags = np.empty(F, dtype=np.bool_)
     n_chunks = (F + _CHUNK - 1) // _CHUNK
     ties = np.zeros(n_chunks, dtype=np.int64)
-    lx, ly, lz = light[0], light[1], light[2]
     for c in prange(n_chunks):
-        t = 0
-        for p in range(c * _CHUNK, min(F, (c + 1) * _CHUNK)):
-            if directional:
-                dx, dy, dz = lx, ly, lz
-            else:
-                dx, dy, dz = lx - p0[p, 0], ly - p0[p, 1], lz - p0[p, 2]
-            dot = dx * nrm[p, 0] + dy * nrm[p, 1] + dz * nrm[p, 2]
-            flags[p] = dot > 0.0
-            t += dot == 0.0
-        ties[c] = t
-    return flags, ties.sum()
+        ties[c] = _facing_range(p0, nrm, light, directional, flags, c * _CHUNK, min(F, (c + 1) * _CHUNK))
+    return ties.sum()
+
+
+def _facing_kernel(p0, nrm, light, directional) -> tuple[np.ndarray, int]:
+    """Light-facing flags and ties; one chunk runs serially (waking the thread pool costs more than it saves)."""
+    flags = np.empty(p0.shape[0], dtype=np.bool_)
+    if p0.shape[0] <= _CHUNK:
+        return flags, _facing_range(p0, nrm, light, directional, flags, 0, p0.shape[0])
+    return flags, _facing_parallel(p0, nrm, light, directional, flags)
+
+
+@njit(cache=True)
+def _pair_range(flags, pair_faces, out, lo, hi):  # pragma: no cover - compiled
+    """Positions ``lo <= e < hi`` of the two-sided edges whose faces differ, written from ``out[lo]``; how many."""
+    k = lo
+    for e in range(lo, hi):
+        if flags[pair_faces[e, 0]] != flags[pair_faces[e, 1]]:
+            out[k] = e
+            k += 1
+    return k - lo
 
 
 @njit(cache=True, parallel=True)
-def _pair_kernel(flags, pair_faces):  # pragma: no cover - compiled
+def _pair_parallel(flags, pair_faces, out):  # pragma: no cover - compiled
     E = pair_faces.shape[0]
-    out = np.empty(E, dtype=np.int64)
     n_chunks = (E + _CHUNK - 1) // _CHUNK
     counts = np.zeros(n_chunks, dtype=np.int64)
     for c in prange(n_chunks):
-        k = c * _CHUNK
-        for e in range(c * _CHUNK, min(E, (c + 1) * _CHUNK)):
-            if flags[pair_faces[e, 0]] != flags[pair_faces[e, 1]]:
-                out[k] = e
-                k += 1
-        counts[c] = k - c * _CHUNK
+        counts[c] = _pair_range(flags, pair_faces, out, c * _CHUNK, min(E, (c + 1) * _CHUNK))
     k = 0
     for c in range(n_chunks):  # compact the chunks' runs, in order
         for i in range(counts[c]):
             out[k + i] = out[c * _CHUNK + i]
         k += counts[c]
-    return out[:k]
+    return k
+
+
+def _pair_kernel(flags, pair_faces) -> np.ndarray:
+    """Positions of the two-sided edges with exactly one light-facing face, ascending."""
+    out = np.empty(pair_faces.shape[0], dtype=np.int64)
+    if pair_faces.shape[0] <= _CHUNK:
+        return out[: _pair_range(flags, pair_faces, out, 0, pair_faces.shape[0])]
+    return out[: _pair_parallel(flags, pair_faces, out)]
 
 
 @njit(cache=True, parallel=True)
