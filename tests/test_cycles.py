@@ -9,6 +9,7 @@ import pytest
 from silcount.calibrate import mca
 from silcount.cli.main import main
 from silcount.counting import cycles
+from silcount.counting import paper as paper_models
 from silcount.errors import BadArgument
 
 ALL = ("add", "mul", "cmp", "read", "write", "div", "sqrt")
@@ -124,3 +125,33 @@ def test_measured_profiles_are_in_nanoseconds_with_methods():
     lat = next(p for n, p in measured.items() if n.endswith("-latency"))
     dram = next(p for n, p in measured.items() if n.endswith("-latency-dram"))
     assert dram.weights["read"] > lat.weights["read"]
+
+
+def test_labels_and_sources_are_the_files_own():
+    # What calibrate prints beside every weight (its name, unit, description and per-kind source),
+    # read here straight from the committed TOML files and the paper's section.
+    profiles = cycles.builtin_profiles()
+    paper = profiles["paper"]
+    section = paper_models.load("eesd2012-paper")["cycle_weights"]["section"]
+    assert (paper.name, paper.unit) == ("paper", "cycles")
+    assert paper.source == f"EESD paper Sec. {section} (div, sqrt: extension)"
+    assert all(paper.sources[k] == f"EESD paper Sec. {section}" for k in ("mul", "add", "cmp", "read", "write"))
+    for path in sorted(cycles.cycles_dir().glob("*-llvm-mca.toml")):
+        data = _toml(path)
+        for table, suffix in (("latency", "latency"), ("rthroughput", "throughput")):
+            prof = profiles[f"{data['llvm_mcpu']}-{suffix}"]
+            assert prof.unit == "cycles"
+            assert prof.source == f"llvm-mca {data['llvm_version']} -mcpu={data['llvm_mcpu']} {table}"
+            assert prof.sources == {k: data[table][k]["instruction"] for k in ALL}
+    for path in sorted(cycles.cycles_dir().glob("measured-*.toml")):
+        data = _toml(path)
+        prof = profiles[f"{data['name']}-measured-latency"]
+        assert prof.source == f"{path.name} [latency]"
+        assert prof.sources == {k: str(data["latency"][k]["method"]) for k in ALL}
+
+
+def test_refusals_list_the_kinds_plainly():
+    with pytest.raises(BadArgument, match=r"^cycle profile mine lacks a weight for div, sqrt$"):
+        cycles.Profile("mine", {k: 1.0 for k in ALL if k not in ("div", "sqrt")}, "test")
+    with pytest.raises(BadArgument, match=r"^cycle profile unit has no weight for fma, fms$"):
+        cycles.builtin_profiles()["unit"].cycles({"fma": 1, "fms": 2})
