@@ -26,7 +26,7 @@ from pathlib import Path
 COMMON = "tests/test_edge_rules.py"
 SELECTION: dict[str, str] = {
     "silcount/counting/arithmetic.py": "tests/test_arithmetic.py",
-    "silcount/counting/paper.py": "tests/test_models_dir.py tests/test_formulas.py",
+    "silcount/counting/paper.py": "tests/test_models_dir.py tests/test_ta.py tests/test_formulas.py",
     "silcount/counting/cycles.py": "tests/test_cycles.py",
     "silcount/detectors/adjacency.py": f"tests/test_reference.py tests/test_detect_many.py {COMMON}",
     "silcount/detectors/reference.py": f"tests/test_reference.py tests/test_detect_many.py {COMMON}",

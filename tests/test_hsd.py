@@ -197,3 +197,40 @@ def test_facets_hide_real_silhouette_edges(shared_mesh):
     intended = silcount.detect(m, light, "hsd", "intended")
     assert np.array_equal(intended.edges, ref.edges)
     assert intended.notes["reference_edges_inside_polygons"] == 0
+
+
+def _folded_square(h=1e-9):
+    # The unit square split along (0,0)-(1,1), corners (1,0) and (0,1) raised by h: two triangles
+    # 2.8h radians from coplanar.  The exact merge keeps them apart; trimesh's facets join them.
+    v = np.array([[0, 0, 0], [1, 0, h], [1, 1, 0], [0, 1, h]], dtype=float)
+    return silcount.from_polygons(v, [[0, 1, 2], [0, 2, 3]])
+
+
+def test_a_fold_inside_a_facet_is_a_hidden_silhouette_edge():
+    # Light along (1,-1,0): facing values +-2h, so exactly one triangle is lit and the diagonal
+    # (edge 0-2) is a reference silhouette edge.  By hand: intended merges nothing and finds it;
+    # literal merges the pair into one polygon, the diagonal is interior (1 reference edge inside a
+    # polygon) and HSD cannot report it.
+    m = _folded_square()
+    light = silcount.DirectionalLight((1.0, -1.0, 0.0))
+    ends = {tuple(m.vertices[i]) for i in range(m.n_vertices) if m.vertices[i][2] == 0}  # (0,0,0), (1,1,0)
+    diagonal = next(
+        e for e, (a, b) in enumerate(m.edges.tolist()) if {tuple(m.vertices[a]), tuple(m.vertices[b])} == ends
+    )
+    ref = silcount.detect(m, light, "reference")
+    assert diagonal in ref.edge_ids.tolist()
+    for engine in ("naive", "fast"):
+        good = silcount.detect(m, light, "hsd", "intended", engine)
+        bad = silcount.detect(m, light, "hsd", "literal", engine)
+        assert (good.detector, bad.detector) == ("hsd", "hsd")
+        assert good.notes["merge"]["criterion"] == "tight" and bad.notes["merge"]["criterion"] == "facets"
+        assert good.notes["reference_edges_inside_polygons"] == 0 and diagonal in good.edge_ids.tolist()
+        assert bad.notes["reference_edges_inside_polygons"] == 1 and diagonal not in bad.edge_ids.tolist()
+        assert bad.notes["missed_edges"] >= 1
+
+
+def test_defaults_are_the_intended_variant_and_the_fast_engine():
+    from silcount.detectors import hsd
+
+    res = hsd.detect(silcount.builtin_mesh("triangle_cube"), silcount.PointLight((0.0, 0.0, 10.0)))
+    assert (res.detector, res.variant, res.engine) == ("hsd", "intended", "fast")

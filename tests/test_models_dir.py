@@ -31,3 +31,21 @@ def test_models_dir_override_is_used(tmp_path, monkeypatch):
         monkeypatch.delenv("SILCOUNT_MODELS_DIR")
         _clear()
     assert paper.paper_tally("eesd2012-vnv", {"counter": 3}, params)["add"] == 3
+
+
+def test_each_detector_is_priced_by_its_own_paper_model():
+    # The closed forms each result's `paper` tally comes from: TA, VnV and EESD as the EESD paper
+    # (2012) prints them, HSD as the HSD paper (2011) does, the reference by silcount's own model.
+    import silcount
+
+    expected = {
+        "reference": "silcount-reference",
+        "ta": "eesd2012-ta",
+        "vnv": "eesd2012-vnv",
+        "hsd": "hsd2011-hsd",
+        "eesd": "eesd2012-eesd",
+    }
+    mesh, light = silcount.builtin_mesh("tetrahedron"), silcount.PointLight((5.0, 5.0, 5.0))
+    for name, model in expected.items():
+        assert silcount.detect(mesh, light, name).paper_model == model
+        assert (paper.models_dir() / f"{model}.toml").is_file()
