@@ -99,6 +99,9 @@ def test_user_profile_file(tmp_path):
         'sqrt = { value = 7, source = "my notes" }\n'
     )
     p = cycles.load_profile(str(good))
+    named = tmp_path / "file-stem.toml"
+    named.write_text(good.read_text())
+    assert cycles.load_profile(str(named)).name == "mine"  # the file's own name, not its stem
     assert p.name == "mine" and p.weights["sqrt"] == 7 and p.sources["sqrt"] == "my notes"
     assert p.cycles({"add": 1, "div": 1, "sqrt": 2}) == 1 + 6 + 14
     bad = tmp_path / "five.toml"
@@ -131,6 +134,8 @@ def test_labels_and_sources_are_the_files_own():
     # What calibrate prints beside every weight (its name, unit, description and per-kind source),
     # read here straight from the committed TOML files and the paper's section.
     profiles = cycles.builtin_profiles()
+    unit = profiles["unit"]
+    assert (unit.source, set(unit.sources.values())) == ("every operation 1", {"1 by definition"})
     paper = profiles["paper"]
     section = paper_models.load("eesd2012-paper")["cycle_weights"]["section"]
     assert (paper.name, paper.unit) == ("paper", "cycles")
