@@ -53,6 +53,14 @@ def _two_diff(a, b):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, inline="always")
+def _two_sum(q, now):  # pragma: no cover - compiled
+    """Shewchuk's Two-Sum: ``x = fl(q + now)`` and its exact rounding error."""
+    x = q + now
+    bv = x - q
+    return x, (q - (x - bv)) + (now - bv)
+
+
+@nb.njit(cache=True, inline="always")
 def _split(a):  # pragma: no cover - compiled
     c = _SPLITTER * a
     abig = c - a
@@ -142,39 +150,14 @@ def _sum(w, e, elen, f, flen, h):  # pragma: no cover - compiled
         if hh != 0.0:
             w[h, hidx] = hh
             hidx += 1
-        while ei < elen and fi < flen:
-            enow, fnow = w[e, ei], w[f, fi]
-            if (fnow > enow) == (fnow > -enow):
-                x = q + enow
-                bv = x - q
-                hh = (q - (x - bv)) + (enow - bv)
-                ei += 1
-            else:
-                x = q + fnow
-                bv = x - q
-                hh = (q - (x - bv)) + (fnow - bv)
-                fi += 1
-            q = x
-            if hh != 0.0:
-                w[h, hidx] = hh
-                hidx += 1
-    while ei < elen:
-        enow = w[e, ei]
-        x = q + enow
-        bv = x - q
-        hh = (q - (x - bv)) + (enow - bv)
-        ei += 1
-        q = x
-        if hh != 0.0:
-            w[h, hidx] = hh
-            hidx += 1
-    while fi < flen:
-        fnow = w[f, fi]
-        x = q + fnow
-        bv = x - q
-        hh = (q - (x - bv)) + (fnow - bv)
-        fi += 1
-        q = x
+    while ei < elen or fi < flen:  # the rest in order of magnitude: e's while f is spent or e's is smaller
+        if fi >= flen or (ei < elen and (w[f, fi] > w[e, ei]) == (w[f, fi] > -w[e, ei])):
+            now = w[e, ei]
+            ei += 1
+        else:
+            now = w[f, fi]
+            fi += 1
+        q, hh = _two_sum(q, now)
         if hh != 0.0:
             w[h, hidx] = hh
             hidx += 1

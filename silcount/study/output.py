@@ -80,24 +80,12 @@ def render(result: CorpusResult, form: str) -> str:
         return render_json(result)
     summary, fits = summary_frame(result.meshes), fits_frame(result.fits)
     failed = f"{result.failed} of {len(result.meshes)} meshes could not be audited (see error)\n"
-    if form == "md":
-        return (
-            "## Meshes\n\n"
-            + summary.to_markdown(index=False)
-            + "\n\n"
-            + failed
-            + "\n## Fits: y ~ c F^alpha (95% bootstrap interval for alpha)\n\n"
-            + fits.to_markdown(index=False)
-            + "\n"
-        )
+    md = form == "md"
+    head, gap = ("## ", "\n") if md else ("", "")  # markdown: headings, a blank line around each table
+    meshes, fits_text = (t.to_markdown(index=False) if md else t.to_string(index=False) for t in (summary, fits))
     return (
-        "Meshes\n"
-        + summary.to_string(index=False)
-        + "\n"
-        + failed
-        + "\nFits: y ~ c F^alpha (95% bootstrap interval for alpha)\n"
-        + fits.to_string(index=False)
-        + "\n"
+        f"{head}Meshes\n{gap}{meshes}\n{gap}{failed}"
+        f"\n{head}Fits: y ~ c F^alpha (95% bootstrap interval for alpha)\n{gap}{fits_text}\n"
     )
 
 
