@@ -268,3 +268,24 @@ def test_hsd_readings_give_the_printed_sum_or_m_minus_one():
     one, minus = F.readings("hsd2011-hsd")
     assert F.difference(F.convention("hsd2011-hsd", one), F.printed_lines("hsd2011-hsd")[0].form) == {}
     assert sp.expand(F.convention("hsd2011-hsd", minus)["cmp"] - F.f_n * (1 + (F.m - 1) * F.e_n)) == 0
+
+
+@pytest.mark.parametrize("model", ["hsd2011-vnv", "eesd2012-vnv"])
+def test_corrected_vnv_differs_from_the_rederived_by_the_visibility_step_alone(model):
+    # VnV runs the visibility test once per (edge, face) pair: printed 8A + 10M + 1C + 8R, executed
+    # 14A + 9M + 1C + 16R (the test above), so correcting it adds 6 e_n f_n adds, 8 e_n f_n reads and
+    # removes e_n f_n multiplies; nothing else changes.
+    e, f = F.e_n, F.f_n
+    corrected, rederived = F.rederive(model, corrected=True), F.rederive(model)
+    diff = {k: sp.expand(corrected[k] - rederived[k]) for k in corrected}
+    assert diff == {k: 0 for k in KINDS} | {"add": 6 * e * f, "mul": -e * f, "read": 8 * e * f}
+
+
+def test_max_of_two_costs_by_hand():
+    n, m = sp.symbols("n m", positive=True)
+    assert F._max(0, 5) == 5 and F._max(5, 0) == 5  # a zero cost: the other one
+    assert F._max(1, 5) == 5 and F._max(3, 2) == 3  # numbers
+    assert F._max(n * m, n * m + n) == n * m + n  # the difference -n: the second
+    assert F._max(n * m + n / 2, n * m) == n * m + n / 2  # the difference n/2, a fraction: the first
+    assert F._max(n, m) == sp.Max(n, m)  # the difference n - m has both signs: undecided
+    assert F._max(2 * n, n + 1) == sp.Max(2 * n, n + 1)
