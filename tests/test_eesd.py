@@ -1,11 +1,13 @@
 """EESD: hand-counted tallies, naive == fast, intended vs reference (convex: equal; tori: subset)."""
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from strategies import clear_of_ties, closed_meshes, convex_hulls, examples, lights_for, perturbed_tori
 
 import silcount
+from silcount.mesh import shapes
 
 # ``true`` costs counted by reading eesd.py's counted routines (point light):
 # extend: M = (v1+v2)*0.5 (3A 3M), e = v2-v1 (3A), d = M-L (3A), w = d x e (6M 3A), c-M (3A),
@@ -207,3 +209,62 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
             escapes[lo : lo + 200] = ~hit.reshape(-1, T).any(axis=1)
         assert np.array_equal(np.intersect1d(res.edge_ids, edges), edges[escapes])
         assert 0 < res.n_edges < ref.n_edges
+
+
+def _extend_by_routine(mesh, light):
+    """P of every edge by the naive engine's counted routine, on plain numbers."""
+    from silcount.counting.arithmetic import Num, OpCounter
+    from silcount.detectors.eesd import _mesh_data
+    from silcount.detectors.eesd_counted import counted_outward_point
+
+    counter = OpCounter()
+    directional = isinstance(light, silcount.DirectionalLight)
+    L = [Num(float(x), counter) for x in (light.direction if directional else light.position)]
+    num = lambda p: [Num(float(x), counter) for x in p]  # noqa: E731
+    V, apex = mesh.vertices, _mesh_data(mesh)["apex"]
+    return np.array(
+        [
+            [x.value for x in counted_outward_point(num(V[a]), num(V[b]), num(V[apex[i]]), L, directional)]
+            for i, (a, b) in enumerate(mesh.edges)
+        ]
+    )
+
+
+@pytest.mark.parametrize(
+    "light", [silcount.PointLight((0.7, 2.9, -1.3)), silcount.DirectionalLight((-0.3, 1.0, 0.2))], ids=str
+)
+def test_extend_step_geometry(light):
+    # EESD paper Sec. 3.3: each edge is pushed "outward" by a small amount. P = m + w * scale, with m the
+    # midpoint, w = d x e (d: from the light to m, or the light's direction), |P - m| = EPS |e|, on the side
+    # of the edge away from its first face's far corner c.  Checked from the geometry, not the code.
+    from silcount.detectors.eesd import _mesh_data, outward_points_and_rays
+    from silcount.detectors.eesd_counted import EPS
+
+    mesh = shapes.torus(n_major=12, n_minor=8)
+    P = outward_points_and_rays(mesh, light)[0]
+    v1, v2 = mesh.vertices[mesh.edges[:, 0]], mesh.vertices[mesh.edges[:, 1]]
+    m, e = (v1 + v2) / 2, v2 - v1
+    d = np.broadcast_to(light.direction, m.shape) if isinstance(light, silcount.DirectionalLight) else m - light.position
+    off, c = P - m, mesh.vertices[_mesh_data(mesh)["apex"]] - m
+    length = np.linalg.norm(e, axis=1)
+    assert np.allclose(np.linalg.norm(off, axis=1), EPS * length, rtol=1e-6, atol=0)
+    assert np.allclose(np.einsum("ij,ij->i", off, e), 0, atol=1e-12)
+    assert np.allclose(np.einsum("ij,ij->i", off, d), 0, atol=1e-12)
+    assert (np.einsum("ij,ij->i", off, c) < 0).all()  # away from the far corner
+    assert np.array_equal(P, _extend_by_routine(mesh, light))  # the fast engine's P is the routine's, bit for bit
+
+
+def test_extend_step_with_the_light_in_the_faces_plane():
+    # A flat grid lit from a point in its own plane: the far corner lies in the plane of the edge and the
+    # light, side = 0 exactly for every edge, and the routine's tie rule (sgn = +1) decides the direction.
+    from silcount.detectors.eesd import outward_points_and_rays
+
+    g = np.arange(4.0)
+    x, y = np.meshgrid(g, g)
+    verts = np.stack([x.ravel(), y.ravel(), np.zeros(16)], axis=1)
+    quads = [[4 * i + j, 4 * i + j + 1, 4 * i + j + 5, 4 * i + j + 4] for i in range(3) for j in range(3)]
+    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    mesh = silcount.from_polygons(verts, np.array(tris))
+    light = silcount.PointLight((9.0, 1.3, 0.0))  # no edge points at it: w = d x e is never 0
+    P = outward_points_and_rays(mesh, light)[0]
+    assert np.array_equal(P, _extend_by_routine(mesh, light))
