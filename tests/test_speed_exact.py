@@ -5,7 +5,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from silcount.mesh.exact import exact_range_ok, normals_dot_sign, orient3d_sign
@@ -86,3 +86,52 @@ def test_exact_range():
     assert exact_range_ok(np.array([0.0, 1.0, -(2.0**150)]))
     assert not exact_range_ok(np.array([2.0**-151]))
     assert not exact_range_ok(np.array([1e300]))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(2, 4),
+    st.integers(2, 4),
+    st.floats(-3.0, 3.0),
+    st.floats(-3.0, 3.0),
+    st.booleans(),
+    st.lists(st.integers(0, 24), max_size=4),
+    st.sampled_from([1.0, 2.0**-20, 3.0e10]),
+)
+def test_merge_kernel_agrees_with_python_integers(nx, ny, ax, ay, split, nudged, scale):
+    # The tight merge's compiled kernel (float filter, Shewchuk's expansions) against its second
+    # implementation on exact Python integers (used outside the expansions' range), on a tilted grid of
+    # quads or triangles: rounding makes neighbours nearly coplanar, and nudged vertices break planes.
+    from silcount.mesh.coplanar import (
+        _common_shift,
+        _coplanar_pairs,
+        _coplanar_pairs_ints,
+        _normals_agree_ints,
+        _opposite_pairs,
+    )
+    from silcount.mesh.model import from_polygons
+
+    i, j = np.meshgrid(np.arange(nx + 1.0), np.arange(ny + 1.0), indexing="ij")
+    v = np.stack([i.ravel(), j.ravel(), np.zeros(i.size)], axis=1)
+    cx, sx, cy, sy = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay)
+    v = scale * (v @ np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]]) @ np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]]))
+    for k in nudged:
+        if k < len(v):
+            v[k, 2] = np.nextafter(v[k, 2], np.inf)
+    at = lambda a, b: a * (ny + 1) + b  # noqa: E731
+    quads = [[at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)] for a in range(nx) for b in range(ny)]
+    faces = [t for q in quads for t in ([q[:3], [q[0], q[2], q[3]]] if split else [q])]
+    assume(exact_range_ok(v))  # the kernel's domain (subnormal sines leave it)
+    mesh = from_polygons(v, faces)
+    _, f, g = _opposite_pairs(mesh)
+    first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]
+    tests, unsure, coplanar, merged = _coplanar_pairs(
+        mesh.vertices, mesh.corners, mesh.face_start, mesh.face_sizes, first3, f, g
+    )
+    steps: dict = {}
+    assert np.array_equal(coplanar, _coplanar_pairs_ints(mesh, f, g, first3, steps))
+    assert (steps["orient3d_filter"], steps["orient3d_exact"]) == (tests.sum(), unsure.sum())
+    cand = np.flatnonzero(coplanar)
+    faces_used = np.unique(np.concatenate([f[cand], g[cand]]))
+    same = _normals_agree_ints(mesh.vertices, first3, faces_used, f[cand], g[cand], _common_shift(mesh.vertices))
+    assert np.array_equal(np.flatnonzero(merged), cand[same])

@@ -215,47 +215,83 @@ def _normals_agree_ints(V, first3, faces, f, g, shift) -> np.ndarray:
     return same
 
 
+@nb.njit(cache=True, inline="always")
+def _plane_tests(V, corners, face_start, sizes, first3, plane, other, w, lens, off):  # pragma: no cover - compiled
+    """Every corner of face ``other`` (but the plane's own first three) against ``plane``'s plane.
+
+    Returns (tests, tests the float filter left unsure, off plane).  The float determinant and its bound
+    are :func:`_orient3d_float`'s, operation for operation; an unsure test is decided exactly
+    (:func:`orient3d_sign`) unless an earlier test already put the pair off the plane.
+    """
+    i0, i1, i2 = first3[plane, 0], first3[plane, 1], first3[plane, 2]
+    tests = unsure = 0
+    for k in range(sizes[other]):
+        q = corners[face_start[other] + k]
+        if q == i0 or q == i1 or q == i2:
+            continue  # trivially on the plane
+        tests += 1
+        ad0, ad1, ad2 = V[i0, 0] - V[q, 0], V[i0, 1] - V[q, 1], V[i0, 2] - V[q, 2]
+        bd0, bd1, bd2 = V[i1, 0] - V[q, 0], V[i1, 1] - V[q, 1], V[i1, 2] - V[q, 2]
+        cd0, cd1, cd2 = V[i2, 0] - V[q, 0], V[i2, 1] - V[q, 1], V[i2, 2] - V[q, 2]
+        bc = bd0 * cd1 - cd0 * bd1
+        ca = cd0 * ad1 - ad0 * cd1
+        ab = ad0 * bd1 - bd0 * ad1
+        det = ad2 * bc + bd2 * ca + cd2 * ab
+        perm = (
+            (abs(bd0 * cd1) + abs(cd0 * bd1)) * abs(ad2)
+            + (abs(cd0 * ad1) + abs(ad0 * cd1)) * abs(bd2)
+            + (abs(ad0 * bd1) + abs(bd0 * ad1)) * abs(cd2)
+        )
+        if abs(det) > _ERRBOUND_A * perm:
+            off = True
+        else:
+            unsure += 1
+            if not off and orient3d_sign(V, i0, i1, i2, q, w, lens) != 0:
+                off = True
+    return tests, unsure, off
+
+
 @nb.njit(cache=True, parallel=True)
-def _orient3d_zero(V, first3, t_plane, t_point, unsure):  # pragma: no cover - compiled
-    """Exact ``orient3d == 0`` of each ``unsure`` test (Shewchuk's expansions), in parallel chunks."""
-    out = np.empty(unsure.size, dtype=np.bool_)
-    n_chunks = 64
+def _coplanar_pairs(V, corners, face_start, sizes, first3, f, g):  # pragma: no cover - compiled
+    """Per opposite pair: (orient3d tests, of them unsure, coplanar, coplanar with ``n_f . n_g > 0``).
+
+    In parallel chunks; see :func:`_tight_links`.  Both predicates are exact (Shewchuk's expansions).
+    """
+    n = f.size
+    tests = np.zeros(n, dtype=np.int64)
+    unsure = np.zeros(n, dtype=np.int64)
+    coplanar = np.empty(n, dtype=np.bool_)
+    merged = np.zeros(n, dtype=np.bool_)
+    n_chunks = 256
     for c in nb.prange(n_chunks):
         w = np.empty((20, 512))
         lens = np.empty(9, dtype=np.int64)
-        for i in range(c * unsure.size // n_chunks, (c + 1) * unsure.size // n_chunks):
-            j = unsure[i]
-            p = t_plane[j]
-            out[i] = orient3d_sign(V, first3[p, 0], first3[p, 1], first3[p, 2], t_point[j], w, lens) == 0
-    return out
-
-
-@nb.njit(cache=True, parallel=True)
-def _normals_agree(V, first3, f, g):  # pragma: no cover - compiled
-    """Exact ``n_f . n_g > 0`` for each pair (Shewchuk's expansions), in parallel chunks."""
-    out = np.empty(f.size, dtype=np.bool_)
-    n_chunks = 64
-    for c in nb.prange(n_chunks):
-        w = np.empty((24, 2048))
-        lens = np.empty(18, dtype=np.int64)
-        for i in range(c * f.size // n_chunks, (c + 1) * f.size // n_chunks):
+        wn = np.empty((24, 2048))
+        lens_n = np.empty(18, dtype=np.int64)
+        for i in range(c * n // n_chunks, (c + 1) * n // n_chunks):
             a, b = f[i], g[i]
-            sign = normals_dot_sign(
-                V, first3[a, 0], first3[a, 1], first3[a, 2], first3[b, 0], first3[b, 1], first3[b, 2], w, lens
-            )
-            out[i] = sign > 0
-    return out
+            tri_a, tri_b = sizes[a] == 3, sizes[b] == 3
+            off = False
+            if tri_a or not tri_b:
+                t, u, off = _plane_tests(V, corners, face_start, sizes, first3, a, b, w, lens, off)
+                tests[i] += t
+                unsure[i] += u
+            if not tri_a:
+                t, u, off = _plane_tests(V, corners, face_start, sizes, first3, b, a, w, lens, off)
+                tests[i] += t
+                unsure[i] += u
+            coplanar[i] = not off
+            if not off:
+                sign = normals_dot_sign(
+                    V, first3[a, 0], first3[a, 1], first3[a, 2], first3[b, 0], first3[b, 1], first3[b, 2], wn, lens_n
+                )
+                merged[i] = sign > 0
+    return tests, unsure, coplanar, merged
 
 
-def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
-    """Face pairs to merge under the exact criterion, and the step counts of the tests."""
-    e, f, g = _opposite_pairs(mesh)
-    steps = {"candidate_edge": int(mesh.n_edges)}
-    first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]  # (F, 3)
+def _coplanar_pairs_ints(mesh: Mesh, f: np.ndarray, g: np.ndarray, first3: np.ndarray, steps: dict) -> np.ndarray:
+    """:func:`_coplanar_pairs` for coordinates outside the expansions' exact range: numpy and Python integers."""
     sizes = mesh.face_sizes
-    # every corner of the other face against this face's plane, both ways round; when one face is a
-    # triangle T, the other face's corners against T's plane suffice (with n_T . n_P > 0 they put
-    # P's plane on T's, so T's corners lie on P's plane too)
     tri_f, tri_g = sizes[f] == 3, sizes[g] == 3
     one, two = np.flatnonzero(tri_f | ~tri_g), np.flatnonzero(~tri_f)
     plane = np.concatenate([f[one], g[two]])
@@ -274,32 +310,49 @@ def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     off_plane = np.abs(det) > bound
     unsure = np.flatnonzero(~off_plane)
     steps["orient3d_exact"] = int(unsure.size)
-    fast = exact_range_ok(V)  # Shewchuk's expansions are exact in this range; else exact Python integers
-    shift = _common_shift(V)
-    if unsure.size and fast:
-        zero = _orient3d_zero(V, first3, t_plane, t_point, unsure)
-        off_plane[unsure[~zero]] = True
-    elif unsure.size:
+    if unsure.size:
         used = _mask_ids(V.shape[0], first3[t_plane[unsure]], t_point[unsure])
         exact = np.empty((V.shape[0], 3), dtype=object)
-        exact[used] = _exact_ints(V[used], shift)
+        exact[used] = _exact_ints(V[used], _common_shift(V))
         for lo in range(0, unsure.size, _CHUNK):  # bounded memory for the object arrays
             part = unsure[lo : lo + _CHUNK]
             a, b, c = (exact[first3[t_plane[part], i]] for i in range(3))
             zero = _orient3d_exact_zero(a, b, c, exact[t_point[part]])
             off_plane[part[~zero]] = True
-    coplanar = np.ones(e.size, dtype=bool)
+    coplanar = np.ones(f.size, dtype=bool)
     coplanar[t_pair[off_plane]] = False
+    return coplanar
+
+
+def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """Face pairs to merge under the exact criterion, and the step counts of the tests.
+
+    Every corner of the other face is tested against this face's plane, both ways round; when one face
+    is a triangle T, the other face's corners against T's plane suffice (with n_T . n_P > 0 they put
+    P's plane on T's, so T's corners lie on P's plane too).
+    """
+    e, f, g = _opposite_pairs(mesh)
+    steps = {"candidate_edge": int(mesh.n_edges)}
+    first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]  # (F, 3)
+    V = mesh.vertices
+    fast = exact_range_ok(V)  # Shewchuk's expansions are exact in this range; else exact Python integers
+    if fast:
+        tests, unsure, coplanar, merged = _coplanar_pairs(
+            V, mesh.corners, mesh.face_start, mesh.face_sizes, first3, f, g
+        )
+        steps["orient3d_filter"], steps["orient3d_exact"] = int(tests.sum()), int(unsure.sum())
+    else:
+        coplanar = _coplanar_pairs_ints(mesh, f, g, first3, steps)
     cand = np.flatnonzero(coplanar)
     steps["normal_check"] = int(cand.size)
-    if cand.size:
-        faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
-        steps["exact_normal"] = int(faces.size)
-        if fast:
-            same = _normals_agree(V, first3, f[cand], g[cand])
-        else:
-            same = _normals_agree_ints(V, first3, faces, f[cand], g[cand], shift)
-        cand = cand[same]
+    if not cand.size:
+        return f[cand], g[cand], steps
+    faces = _mask_ids(mesh.n_faces, f[cand], g[cand])
+    steps["exact_normal"] = int(faces.size)
+    if fast:
+        cand = np.flatnonzero(merged)
+    else:
+        cand = cand[_normals_agree_ints(V, first3, faces, f[cand], g[cand], _common_shift(V))]
     return f[cand], g[cand], steps
 
 
