@@ -60,3 +60,20 @@ def test_weld_tolerance_merges_near_duplicates_only_when_asked():
     assert from_polygons(v, faces).n_vertices == 5
     merged = from_polygons(v, faces, weld_tolerance=1e-9)
     assert merged.n_vertices == 4 and merged.n_edges == 5
+
+
+@pytest.mark.parametrize("n_vertices", [8, 20_000])  # a key per row fits in int64 / does not (pentagons)
+def test_duplicate_faces_against_a_plain_count(n_vertices):
+    from silcount.mesh.stats import duplicate_faces
+
+    rng = np.random.default_rng(n_vertices)
+    pool = rng.choice(n_vertices, size=8, replace=False)
+    faces = [list(rng.choice(pool, size=int(rng.integers(3, 6)), replace=False)) for _ in range(200)]
+    mesh = silcount.from_polygons(rng.random((n_vertices, 3)), faces)
+    seen: set = set()
+    expected = 0
+    for f in faces:  # a face repeats an earlier one when it has the same vertex set
+        key = tuple(sorted(f))
+        expected += key in seen
+        seen.add(key)
+    assert expected > 10 and duplicate_faces(mesh) == expected
