@@ -69,7 +69,10 @@ def test_duplicate_faces_against_a_plain_count(n_vertices):
     rng = np.random.default_rng(n_vertices)
     pool = rng.choice(n_vertices, size=8, replace=False)
     faces = [list(rng.choice(pool, size=int(rng.integers(3, 6)), replace=False)) for _ in range(200)]
+    last = n_vertices - 3
+    faces += [[i, i + 1, i + 2] for i in range(0, last + 1, 3)] + [[last, last + 1, last + 2]]
     mesh = silcount.from_polygons(rng.random((n_vertices, 3)), faces)
+    assert mesh.n_vertices == n_vertices  # every vertex used: none is dropped
     seen: set = set()
     expected = 0
     for f in faces:  # a face repeats an earlier one when it has the same vertex set
