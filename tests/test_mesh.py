@@ -80,3 +80,18 @@ def test_duplicate_faces_against_a_plain_count(n_vertices):
         expected += key in seen
         seen.add(key)
     assert expected > 10 and duplicate_faces(mesh) == expected
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_unique_rows_is_numpys_unique_over_rows(seed):
+    from silcount.mesh.model import unique_rows
+
+    rng = np.random.default_rng(seed)
+    a = np.round(rng.normal(size=(500, 3)), 1) + 0.0  # few distinct values: many repeated rows, ties per column
+    a[rng.integers(0, 500, 50)] = a[rng.integers(0, 500, 50)]
+    a[:3] = [[0.0, -0.0, 1.0], [-0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]  # signed zeros compare equal
+    rows, first, inverse = unique_rows(a)
+    expected = np.unique(a, axis=0, return_index=True, return_inverse=True)
+    assert np.array_equal(rows, expected[0]) and np.array_equal(first, expected[1])
+    assert np.array_equal(inverse, expected[2].reshape(-1))
+    assert unique_rows(np.zeros((0, 3)))[0].shape == (0, 3)
