@@ -244,7 +244,8 @@ def test_extend_step_geometry(light):
     P = outward_points_and_rays(mesh, light)[0]
     v1, v2 = mesh.vertices[mesh.edges[:, 0]], mesh.vertices[mesh.edges[:, 1]]
     m, e = (v1 + v2) / 2, v2 - v1
-    d = np.broadcast_to(light.direction, m.shape) if isinstance(light, silcount.DirectionalLight) else m - light.position
+    directional = isinstance(light, silcount.DirectionalLight)
+    d = np.broadcast_to(light.direction, m.shape) if directional else m - light.position
     off, c = P - m, mesh.vertices[_mesh_data(mesh)["apex"]] - m
     length = np.linalg.norm(e, axis=1)
     assert np.allclose(np.linalg.norm(off, axis=1), EPS * length, rtol=1e-6, atol=0)

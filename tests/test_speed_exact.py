@@ -114,7 +114,8 @@ def test_merge_kernel_agrees_with_python_integers(nx, ny, ax, ay, split, nudged,
     i, j = np.meshgrid(np.arange(nx + 1.0), np.arange(ny + 1.0), indexing="ij")
     v = np.stack([i.ravel(), j.ravel(), np.zeros(i.size)], axis=1)
     cx, sx, cy, sy = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay)
-    v = scale * (v @ np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]]) @ np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]]))
+    rx, ry = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]]), np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    v = scale * (v @ rx @ ry)
     for k in nudged:
         if k < len(v):
             v[k, 2] = np.nextafter(v[k, 2], np.inf)
