@@ -11,10 +11,10 @@ export HYPOTHESIS_STORAGE_DIRECTORY := $(CURDIR)/$(VENV)/cache/hypothesis
 
 .PHONY: report test lint install clean mutation
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e '.[test,lint,gl]'
+	$(BIN)/pip install --quiet -c constraints.txt -e '.[test,lint,gl]'
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -40,7 +40,7 @@ lint: $(STAMP)
 ## MUTATE="<module> ..." narrows the run.
 MUTATE ?=
 mutation: $(STAMP)
-	$(BIN)/python -m pip install --quiet 'mutmut>=2.4,<3'
+	$(BIN)/python -m pip install --quiet -c constraints.txt 'mutmut>=2.4,<3'
 	$(BIN)/python scripts/mutation.py $(MUTATE)
 
 clean:
