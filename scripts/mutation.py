@@ -38,7 +38,7 @@ SELECTION: dict[str, str] = {
     "silcount/detectors/eesd.py": f"tests/test_eesd.py {COMMON}",
     "silcount/detectors/eesd_counted.py": f"tests/test_eesd.py {COMMON}",
     "silcount/detectors/onplane.py": "tests/test_onplane.py",
-    "silcount/papers/formulas.py": "tests/test_formulas.py",
+    "silcount/papers/formulas.py": "tests/test_formulas.py tests/test_claims.py tests/test_tables.py",
 }
 DESELECT = "not torus and not soup and not match_the_committed"
 
