@@ -269,3 +269,26 @@ def test_extend_step_with_the_light_in_the_faces_plane():
     light = silcount.PointLight((9.0, 1.3, 0.0))  # no edge points at it: w = d x e is never 0
     P = outward_points_and_rays(mesh, light)[0]
     assert np.array_equal(P, _extend_by_routine(mesh, light))
+
+
+@pytest.mark.parametrize(
+    "direction, on_planes",
+    [
+        # dy = 0: the 4 z-edges' P stay in their x = 0 or 1 plane, the 4 x-edges' P in their z = 1 or 3 plane
+        ((0.3, 0.0, 0.8), {"x": 4, "z": 4}),
+        # dx = 0: the 4 z-edges' P stay in their y = 0.5 or 2.5 plane, the 4 y-edges' P in their z plane
+        ((0.0, 0.6, 0.8), {"y": 4, "z": 4}),
+    ],
+)
+def test_literal_on_plane_rule_by_hand_on_a_box_off_the_origin(direction, on_planes):
+    # EESD literal skips a face when P satisfies its plane, a Px + b Py + c Pz + d == 0.  The box
+    # x 0..1, y 0.5..2.5, z 1..3 has its faces on planes with a, b, c and d of both signs and none
+    # symmetric about 0 (on the unit cube a sign slip in the c or d term moves P from its own top face
+    # onto the bottom one and the count stays 8).  w = d x e has a zero component exactly where the
+    # light direction does, so P keeps that coordinate of its edge exactly; counted by hand above.
+    v = [[x, y, z] for x in (0.0, 1.0) for y in (0.5, 2.5) for z in (1.0, 3.0)]  # shapes.quad_cube's layout
+    f = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    box = silcount.from_polygons(np.array(v), f)
+    res = both_engines(box, silcount.DirectionalLight(direction), "literal")
+    assert res.notes["on_plane_pairs"] == sum(on_planes.values()) == 8
+    assert res.steps["add"] == 72 - 8 and res.notes["S_length"] == 64 and res.n_edges == 12
