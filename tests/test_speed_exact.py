@@ -102,13 +102,8 @@ def test_merge_kernel_agrees_with_python_integers(nx, ny, ax, ay, split, nudged,
     # The tight merge's compiled kernel (float filter, Shewchuk's expansions) against its second
     # implementation on exact Python integers (used outside the expansions' range), on a tilted grid of
     # quads or triangles: rounding makes neighbours nearly coplanar, and nudged vertices break planes.
-    from silcount.mesh.coplanar import (
-        _common_shift,
-        _coplanar_pairs,
-        _coplanar_pairs_ints,
-        _normals_agree_ints,
-        _opposite_pairs,
-    )
+    from silcount.mesh.coplanar import _coplanar_pairs, _opposite_pairs
+    from silcount.mesh.coplanar_ints import common_shift, coplanar_pairs_ints, normals_agree_ints
     from silcount.mesh.model import from_polygons
 
     i, j = np.meshgrid(np.arange(nx + 1.0), np.arange(ny + 1.0), indexing="ij")
@@ -130,9 +125,9 @@ def test_merge_kernel_agrees_with_python_integers(nx, ny, ax, ay, split, nudged,
         mesh.vertices, mesh.corners, mesh.face_start, mesh.face_sizes, first3, f, g
     )
     steps: dict = {}
-    assert np.array_equal(coplanar, _coplanar_pairs_ints(mesh, f, g, first3, steps))
+    assert np.array_equal(coplanar, coplanar_pairs_ints(mesh, f, g, first3, steps))
     assert (steps["orient3d_filter"], steps["orient3d_exact"]) == (tests.sum(), unsure.sum())
     cand = np.flatnonzero(coplanar)
     faces_used = np.unique(np.concatenate([f[cand], g[cand]]))
-    same = _normals_agree_ints(mesh.vertices, first3, faces_used, f[cand], g[cand], _common_shift(mesh.vertices))
+    same = normals_agree_ints(mesh.vertices, first3, faces_used, f[cand], g[cand], common_shift(mesh.vertices))
     assert np.array_equal(np.flatnonzero(merged), cand[same])

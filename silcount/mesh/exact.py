@@ -36,6 +36,10 @@ _SPLITTER = 134217729.0  # 2^27 + 1
 _LO, _HI = 2.0**-150, 2.0**150
 
 
+ERRBOUND_A = (7.0 + 56.0 * 2.0**-53) * 2.0**-53
+"""Shewchuk's static error bound of orient3dfast, relative to the permanent (1997, ``o3derrboundA``)."""
+
+
 def exact_range_ok(values: np.ndarray) -> bool:
     """Every nonzero ``|value|`` in ``[2^-150, 2^150]``: the range where these predicates are exact."""
     a = np.abs(values[values != 0.0])
