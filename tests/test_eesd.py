@@ -209,6 +209,7 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
             escapes[lo : lo + 200] = ~hit.reshape(-1, T).any(axis=1)
         assert np.array_equal(np.intersect1d(res.edge_ids, edges), edges[escapes])
         assert 0 < res.n_edges < ref.n_edges
+        assert res.n_edges <= res.notes["rays_cast"] < mesh.n_edges  # every silhouette edge's ray was cast
 
 
 def _extend_by_routine(mesh, light):
@@ -278,6 +279,9 @@ def test_extend_step_with_the_light_in_the_faces_plane():
         ((0.3, 0.0, 0.8), {"x": 4, "z": 4}),
         # dx = 0: the 4 z-edges' P stay in their y = 0.5 or 2.5 plane, the 4 y-edges' P in their z plane
         ((0.0, 0.6, 0.8), {"y": 4, "z": 4}),
+        # a point light at y = 0.5: only the edges at y = 0.5 have d = M - L with dy = 0; their 2 z-edges
+        # stay in their x plane, their 2 x-edges in their z plane (and the light itself is on y = 0.5)
+        ("point (3, 0.5, 7)", {"x": 2, "z": 2}),
     ],
 )
 def test_literal_on_plane_rule_by_hand_on_a_box_off_the_origin(direction, on_planes):
@@ -289,6 +293,27 @@ def test_literal_on_plane_rule_by_hand_on_a_box_off_the_origin(direction, on_pla
     v = [[x, y, z] for x in (0.0, 1.0) for y in (0.5, 2.5) for z in (1.0, 3.0)]  # shapes.quad_cube's layout
     f = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
     box = silcount.from_polygons(np.array(v), f)
-    res = both_engines(box, silcount.DirectionalLight(direction), "literal")
-    assert res.notes["on_plane_pairs"] == sum(on_planes.values()) == 8
-    assert res.steps["add"] == 72 - 8 and res.notes["S_length"] == 64 and res.n_edges == 12
+    light = silcount.PointLight((3.0, 0.5, 7.0)) if isinstance(direction, str) else silcount.DirectionalLight(direction)
+    res = both_engines(box, light, "literal")
+    on = sum(on_planes.values())
+    assert res.notes["on_plane_pairs"] == on
+    assert res.steps["add"] == res.notes["S_length"] == 72 - on and res.n_edges == 12
+
+
+def test_literal_on_plane_rule_by_hand_on_a_box_of_face_fans():
+    # The same box with each face split into 4 triangles around its centre, the centre first: every
+    # triangle's first two edges have both in-plane components nonzero, so each product of the face
+    # normal's cross product matters (on the quad box one of them is always 0).  Light direction
+    # (0.3, 0, 0.8): w = d x e = (-0.8 ey, 0.8 ex - 0.3 ez, 0.3 ey) keeps P's x and z exactly for the
+    # edges with ey = 0.  The 4 box edges along x lie in a z = 1 or 3 face, the 4 along z in an x = 0
+    # or 1 face, and P stays on all 4 triangles of that face: 8 x 4 = 32 pairs.  The 8 spokes of the
+    # y faces (ey = 0 too) have midpoints on no x or z face plane, and their P leaves the y plane.
+    corners = [[x, y, z] for x in (0.0, 1.0) for y in (0.5, 2.5) for z in (1.0, 3.0)]
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    v = np.array(corners + [np.mean([corners[i] for i in q], axis=0) for q in quads])
+    tris = [[8 + k, q[i], q[(i + 1) % 4]] for k, q in enumerate(quads) for i in range(4)]
+    box = silcount.from_polygons(v, tris)
+    assert (box.n_faces, box.n_edges) == (24, 36)
+    res = both_engines(box, silcount.DirectionalLight((0.3, 0.0, 0.8)), "literal")
+    assert res.notes["on_plane_pairs"] == 32
+    assert res.steps["add"] == 36 * 24 - 32
