@@ -210,14 +210,15 @@ def _coplanar_pairs(V, corners, face_start, sizes, first3, f, g):  # pragma: no 
     return tests, unsure, coplanar, merged
 
 
-def _tight_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+def _tight_links(mesh: Mesh, pairs: tuple) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """Face pairs to merge under the exact criterion, and the step counts of the tests.
 
-    Every corner of the other face is tested against this face's plane, both ways round; when one face
-    is a triangle T, the other face's corners against T's plane suffice (with n_T . n_P > 0 they put
-    P's plane on T's, so T's corners lie on P's plane too).
+    ``pairs``: :func:`_opposite_pairs` of the mesh.  Every corner of the other face is tested against
+    this face's plane, both ways round; when one face is a triangle T, the other face's corners
+    against T's plane suffice (with n_T . n_P > 0 they put P's plane on T's, so T's corners lie on
+    P's plane too).
     """
-    e, f, g = _opposite_pairs(mesh)
+    _, f, g = pairs
     steps = {"candidate_edge": int(mesh.n_edges)}
     first3 = mesh.corners[mesh.face_start[:-1, None] + np.arange(3)]  # (F, 3)
     V = mesh.vertices
@@ -270,7 +271,8 @@ def _facet_links(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
 
 def _build(mesh: Mesh, criterion: str) -> Merge:
     F = mesh.n_faces
-    f, g, steps = _tight_links(mesh) if criterion == "tight" else _facet_links(mesh)
+    pairs = _opposite_pairs(mesh)
+    f, g, steps = _tight_links(mesh, pairs) if criterion == "tight" else _facet_links(mesh)
     from scipy.sparse import coo_matrix  # scipy (~0.5 s): only when a merge runs
     from scipy.sparse.csgraph import connected_components
 
@@ -283,7 +285,7 @@ def _build(mesh: Mesh, criterion: str) -> Merge:
     renum[order] = np.arange(order.size)
     region = renum[label]
     rep = rep[order]
-    e, a, b = _opposite_pairs(mesh)
+    e, a, b = pairs
     interior = np.zeros(mesh.n_edges, dtype=bool)
     interior[e[region[a] == region[b]]] = True
     boundary = np.flatnonzero(~interior[mesh.side_edge])
