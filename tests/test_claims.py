@@ -171,7 +171,6 @@ def _clear_caches():
         formulas.rederive,
         formulas.forms,
         formulas.printed_lines,
-        formulas.rederivation_differences,
         formulas.convention,
         formulas.worst_case,
         formulas.witness,

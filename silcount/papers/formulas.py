@@ -13,8 +13,7 @@ per-line costs (``cost_corrected``) and the printed expansion line by line
   ``s`` (fraction of edges that are silhouette edges) on a closed 2-manifold;
 * :func:`printed_lines`: each printed line parsed by kind;
 
-and compares them term by term (:func:`expansion_steps`,
-:func:`rederivation_differences`).  The papers' own evaluation point is
+and compares them term by term (:func:`expansion_steps`).  The papers' own evaluation point is
 ``v = 1, s = 0`` (``[evaluation]`` of the paper file): the printed TA sum
 runs the side loop for every face, which is exact only when every face is
 light-facing, and then a closed mesh has no silhouette edge.
@@ -266,35 +265,6 @@ def expansion_steps(model: str) -> list[tuple[str, str, Form]]:
         prev_n = {k: sp.expand(x.subs(subs)) for k, x in prev.form.items()}
         out.append((prev.printed, cur.printed, difference(cur.form, prev_n)))
     return out
-
-
-@dataclass(frozen=True)
-class StepDifference:
-    step: str
-    line: str
-    printed_runs: sp.Expr
-    derived_runs: sp.Expr
-    kinds: Form  # derived - printed, per kind, at the evaluation point
-    note: str
-
-
-@cache
-def rederivation_differences(model: str) -> tuple[StepDifference, ...]:
-    """Steps whose charge in the printed sum differs from the loop structure, at the evaluation point."""
-    out = []
-    point = evaluation_point(model)
-    for step, spec in steps(model).items():
-        printed, derived = step_runs(model, step)
-        cost = _step_cost(spec, False)
-        diff = {k: sp.factor(sp.expand((derived - printed).subs(point) * c)) for k, c in cost.items()}
-        diff = {k: d for k, d in diff.items() if d != 0}
-        if sp.simplify(printed - derived) != 0:
-            out.append(
-                StepDifference(
-                    step, spec.get("line", ""), printed, derived, diff, spec.get("branch_note", spec.get("note", ""))
-                )
-            )
-    return tuple(out)
 
 
 def evaluate(form: Form, **point) -> dict[str, sp.Expr]:
