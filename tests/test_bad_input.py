@@ -238,10 +238,6 @@ def test_unknown_detector_and_bad_memory_size(tmp_path):
 
 
 # ---- usable but dubious: audited, with warnings ------------------------------------------
-def _warnings(path: Path, *extra: str) -> str:
-    return "\n".join(audit_json(path, *extra)["warnings"])
-
-
 def test_degenerate_faces_are_warned(tmp_path):
     # the tetrahedron plus a zero-area sliver on three collinear points far away
     v = TETRA_V.tolist() + [[5, 0, 0], [6, 0, 0], [7, 0, 0]]

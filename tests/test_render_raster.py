@@ -10,15 +10,6 @@ from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
 
 
-def ndc_pixel_x(col: float, width: int) -> float:
-    """NDC x of a screen x coordinate in pixels (pixel centres at col + 0.5)."""
-    return 2.0 * col / width - 1.0
-
-
-def ndc_pixel_y(row: float, height: int) -> float:
-    return 1.0 - 2.0 * row / height
-
-
 def clip_from_screen(points, width, height, z=0.0):
     """(T, 3, 2) screen positions in pixels (x right, y down) -> (T, 3, 4) clip coordinates with w = 1."""
     p = np.asarray(points, dtype=np.float64)
