@@ -317,3 +317,33 @@ def test_literal_on_plane_rule_by_hand_on_a_box_of_face_fans():
     res = both_engines(box, silcount.DirectionalLight((0.3, 0.0, 0.8)), "literal")
     assert res.notes["on_plane_pairs"] == 32
     assert res.steps["add"] == 36 * 24 - 32
+
+
+def test_triangle_hit_ties_in_both_engines():
+    # EESD's ray-triangle test is Moller-Trumbore with a closed triangle: u >= 0, v >= 0, u + v <= 1 and
+    # t strictly after the origin.  Rays straight down through the edges of the triangle (0,0,0),
+    # (1,0,0), (0,1,0) meet it exactly (dyadic numbers: u, v, u + v and det = 1 are exact): they hit.
+    # One ulp outside, they miss; a ray starting on the triangle has t = 0 = t_min and misses.  The
+    # naive engine's counted routine and the fast engine's compiled tracer must both say so.
+    from silcount.counting.arithmetic import Num, OpCounter
+    from silcount.detectors.eesd_counted import counted_triangle_hit
+    from silcount.mesh.raytrace import RayTracer
+
+    tri = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    tracer, counter = RayTracer(tri), OpCounter()
+    num = lambda p: [Num(float(x), counter) for x in p]  # noqa: E731
+    tiny = 2.0**-20
+    cases = [
+        ((0.25, 0.0, 1.0), True),  # v = 0
+        ((0.0, 0.25, 1.0), True),  # u = 0
+        ((0.5, 0.5, 1.0), True),  # u + v = 1
+        ((-tiny, 0.25, 1.0), False),
+        ((0.25, -tiny, 1.0), False),
+        ((0.5, 0.5 + tiny, 1.0), False),
+        ((0.25, 0.25, 0.0), False),  # starts on the triangle: t = 0, not after t_min = 0
+    ]
+    down = (0.0, 0.0, -1.0)
+    for origin, expected in cases:
+        counted = counted_triangle_hit(num(origin), num(down), *(num(p) for p in tri[0]), 0.0, np.inf)
+        compiled = tracer.hits_triangle(np.array([origin]), np.array([down]), np.array([0]), 0.0, np.inf)[0]
+        assert bool(counted) == bool(compiled) == expected, origin
