@@ -289,3 +289,11 @@ def test_max_of_two_costs_by_hand():
     assert F._max(n * m + n / 2, n * m) == n * m + n / 2  # the difference n/2, a fraction: the first
     assert F._max(n, m) == sp.Max(n, m)  # the difference n - m has both signs: undecided
     assert F._max(2 * n, n + 1) == sp.Max(2 * n, n + 1)
+
+
+def test_show_prints_a_form_as_the_papers_do():
+    # multiplies first, then adds, compares, reads, writes; a zero kind is left out, a coefficient of 1 kept
+    n, m = F.n, F.m
+    form = {"add": sp.Integer(1), "mul": 2 * n * m + n, "cmp": sp.Integer(0), "read": 3 * n, "write": sp.Integer(0)}
+    assert F.show(form) == "(n*(2*m + 1))M + (1)A + (3*n)R"
+    assert F.show({k: sp.Integer(0) for k in KINDS}) == "0"
