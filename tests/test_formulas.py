@@ -297,3 +297,13 @@ def test_show_prints_a_form_as_the_papers_do():
     form = {"add": sp.Integer(1), "mul": 2 * n * m + n, "cmp": sp.Integer(0), "read": 3 * n, "write": sp.Integer(0)}
     assert F.show(form) == "(n*(2*m + 1))M + (1)A + (3*n)R"
     assert F.show({k: sp.Integer(0) for k in KINDS}) == "0"
+
+
+def test_forms_in_n_carry_the_corrected_visibility_cost():
+    # forms() is what the figures draw.  In n (f_n = n, e_n = 6n), VnV's corrected visibility step adds
+    # 6 * 6n * n = 36 n^2 adds and 8 * 6n^2 = 48 n^2 reads and removes 6 n^2 multiplies (see above).
+    n = F.n
+    forms = F.forms("hsd2011-vnv")
+    diff = {k: sp.expand(forms["corrected"][k] - forms["rederived"][k]) for k in KINDS}
+    assert diff == {k: 0 for k in KINDS} | {"add": 36 * n**2, "mul": -6 * n**2, "read": 48 * n**2}
+    assert forms["printed"] == F.printed_final("hsd2011-vnv")
