@@ -24,10 +24,12 @@ inside a polygon, for any light; two criteria are provided.
     share one plane and orientation.  ``orient3d`` is first evaluated in
     floating point with Shewchuk's static error bound (``errboundA``,
     "Adaptive Precision Floating-Point Arithmetic", 1997); a test the bound
-    cannot decide, and every ``n_f . n_g``, is evaluated exactly on integers
-    (all coordinates scaled by one common power of two: the same exact
-    rational arithmetic as :class:`fractions.Fraction`, without its
-    normalisation).
+    cannot decide, and every ``n_f . n_g``, is evaluated exactly: by
+    Shewchuk's expansions (:mod:`silcount.mesh.exact`) in one compiled pass
+    over the pairs when every coordinate is in their exact range, else on
+    integers (:mod:`silcount.mesh.coplanar_ints`: all coordinates scaled by one
+    common power of two, the same exact rational arithmetic as
+    :class:`fractions.Fraction` without its normalisation).
 
 ``facets`` (HSD ``literal``)
     The paper's "same normal vectors" read loosely, as ``trimesh``'s
