@@ -91,7 +91,6 @@ class MeshMemory:
     """The mesh and light as counted memory, for the ``naive`` engines."""
 
     def __init__(self, mesh: Mesh, light: Light, counter: OpCounter) -> None:
-        self.counter = counter
         self.vertices = Memory(mesh.vertices.reshape(-1), counter)
         self.corners = Memory(mesh.corners, counter)
         self.face_start = Memory(mesh.face_start, counter)
