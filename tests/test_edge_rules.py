@@ -114,6 +114,33 @@ def test_triangle_with_light_on_its_plane_is_a_tie_in_both_engines():
             assert res.n_edges == 0 and res.ties == 1, (name, engine)
 
 
+def test_a_tie_decided_by_rounding_follows_the_papers_formula():
+    # The facing value is (L - p0) . n with n = (p1 - p0) x (p2 - p0) (HSD paper Sec. VI 6.1, EESD
+    # paper Sec. 5.1).  Here, found by a search, that value rounds to exactly 0.0 (a tie), while the
+    # same quantities taken from p1, (L - p1) . n = 4.4e-16, or with n = (p1 - p0) x (p2 - p1),
+    # -4.4e-16, do not: every engine must compute it from p0 and the two edges out of p0.
+    p = np.array([[0.0, -1.6, 1.0], [1.3, -0.1, -0.4], [1.8, -0.5, 1.5]])
+    light = (1.2400000000000002, -0.5599999999999999, 0.6400000000000001)
+
+    def sub(a, b):
+        return [a[k] - b[k] for k in range(3)]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    def dot(a, b):
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    p0, p1, p2 = (list(map(float, q)) for q in p)
+    assert dot(sub(light, p0), cross(sub(p1, p0), sub(p2, p0))) == 0.0  # plain Python, the papers' formula
+    assert dot(sub(light, p1), cross(sub(p1, p0), sub(p2, p0))) != 0.0
+    assert dot(sub(light, p0), cross(sub(p1, p0), sub(p2, p1))) != 0.0
+    tri = from_polygons(p, [[0, 1, 2]])
+    for engine in ENGINES:
+        for name in ("reference", "ta", "vnv", "hsd", "eesd"):
+            assert run(tri, PointLight(light), name, engine=engine).ties == 1, (name, engine)
+
+
 # ---- boundary edges ----------------------------------------------------------------------------------
 TRI = from_polygons(np.array([A, B, C0]), [[0, 1, 2]], name="triangle")  # normal (0, 0, 1)
 ALL3 = E((A, B), (B, C0), (C0, A))
