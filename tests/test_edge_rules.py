@@ -205,12 +205,19 @@ def test_a_directed_edge_repeated_while_its_first_copy_is_first_in_S():
     # TA's S holds directed edges; a search deletes the front-most copy of the reverse edge.  Faces
     # (0,1,2) and (0,1,3) both traverse 0 -> 1, so its second copy is appended while the first sits at
     # the front of S (slot 0); then (1,0,4) deletes one copy: the front-most, which moves every later
-    # element.  The fast engine's replay must keep the copies of a key in order, as the naive S does.
-    v = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0.2], [0.5, 1, -0.2], [0.5, -1, 0.3]], dtype=float)
-    mesh = from_polygons(v, [[0, 1, 2], [0, 1, 3], [1, 0, 4]])
+    # element; (1,0,5) deletes the last copy, and (1,0,6) must then find none and append 1 -> 0.  The
+    # fast engine's replay must keep the copies of a key in order, as the naive S does, and know when
+    # none is left.  All five faces are lit.
+    v = np.array(
+        [[0, 0, 0], [1, 0, 0], [0.5, 1, 0.2], [0.5, 1, -0.2], [0.5, -1, 0.3], [0.5, -1, -0.3], [0.5, -1, 0.6]],
+        dtype=float,
+    )
+    mesh = from_polygons(v, [[0, 1, 2], [0, 1, 3], [1, 0, 4], [1, 0, 5], [1, 0, 6]])
     light = PointLight((0.4, 0.1, 9.0))
     for name in ("ta", "hsd"):
         for variant in ("intended", "literal"):
             fast, naive = (run(mesh, light, name, variant, engine) for engine in ("fast", "naive"))
             assert fast.tally == naive.tally and fast.steps == naive.steps, (name, variant)
             assert np.array_equal(fast.edges, naive.edges) and np.array_equal(fast.oriented, naive.oriented)
+            if name == "ta" and variant == "intended":  # every face lit: S ends with 1 -> 0 and the 10 spokes
+                assert fast.steps["add"] - fast.steps["delete"] == fast.notes["S_length"] == 11
