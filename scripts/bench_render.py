@@ -17,8 +17,8 @@
    numpy and numba imported, ``silcount.cli.main`` imported, the first frame
    (numba caches loaded, threads started) and a second frame.  Python's
    bytecode is cached (``PYTHONDONTWRITEBYTECODE`` dropped, the cache in a
-   temporary folder), as it is after an install.  Target:
-   within 3x llvmpipe's whole process (not measurable here).
+   temporary folder), as it is after an install.  With ``--llvmpipe``
+   too, a whole llvmpipe process runs interleaved with them (see 1d).
 2. The papers' frame-rate analogue: a closed torus of 32 x 23 quads split
    into 1,472 triangles, 2,208 edges (the papers' bunny has ~2,200 edges; the
    shared bunny is 24,363 edges and open, so a closed mesh of the papers'
@@ -212,6 +212,14 @@ def raster_passes(scene, runs: int) -> None:
         )
 
 
+def resized(scenes: list[tuple[str, Path]], sizes: tuple[int, ...]):
+    """(name, size, scene at size x size) for every scene and size, each scene file loaded once."""
+    for name, path in scenes:
+        base = load_scene(path)
+        for size in sizes:
+            yield name, size, base.with_resolution(size, size)
+
+
 def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs: int) -> None:
     """Section 1d: silcount's frames and llvmpipe's, interleaved run by run; masks compared."""
     from gl_stencil import GLStencil
@@ -221,35 +229,32 @@ def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs
         f"{'scene':<16} {'size':>9} {'method':<6} {'sil+volume':>10} {'raster':>7} {'GL draw':>8} "
         f"{'silcount':>8} {'llvmpipe':>8} {'silcount/llvmpipe':>17}  masks"
     )
-    for name, path in scenes:
-        base = load_scene(path)
-        for size in sizes:
-            sc = base.with_resolution(size, size)
-            gl = GLStencil(size, size)
-            for method in ("zpass", "zfail"):
-                res = render_stencil(sc, method)  # warm-up
-                gl.set_scene(res.scene.clip)
-                gl.frame(res.volume_clip, method)
-                mask = gl.coverage() & (gl.stencil() != 0)
-                cmp = compare_masks(res.mask, mask, res.coverage)
-                cpu, raster, draw, frames = [], [], [], []
-                for _ in range(runs):
-                    t0 = time.perf_counter()
-                    r = render_stencil(sc, method)
-                    t1 = time.perf_counter()
-                    gl.frame(r.volume_clip, method)
-                    draw.append(time.perf_counter() - t1)
-                    frames.append(t1 - t0)  # the whole call: mask, eye-in-shadow test and warnings included
-                    cpu.append(r.timings["silhouette"] + r.timings["volume"])
-                    raster.append(r.timings["raster"])
-                gl_frames = [c + d for c, d in zip(cpu, draw)]
-                own, theirs = 1000 * min(frames), 1000 * min(gl_frames)
-                print(
-                    f"{name:<16} {size:>4}x{size:<4} {method:<6} {1000 * min(cpu):10.2f} {1000 * min(raster):7.2f} "
-                    f"{1000 * min(draw):8.2f} {own:8.2f} {theirs:8.2f} {own / theirs:16.2f}x  "
-                    f"{cmp.mismatched} px differ, {cmp.far} far from an edge"
-                )
-            print(f"  ({gl.renderer})")
+    for name, size, sc in resized(scenes, sizes):
+        gl = GLStencil(size, size)
+        for method in ("zpass", "zfail"):
+            res = render_stencil(sc, method)  # warm-up
+            gl.set_scene(res.scene.clip)
+            gl.frame(res.volume_clip, method)
+            mask = gl.coverage() & (gl.stencil() != 0)
+            cmp = compare_masks(res.mask, mask, res.coverage)
+            cpu, raster, draw, frames = [], [], [], []
+            for _ in range(runs):
+                t0 = time.perf_counter()
+                r = render_stencil(sc, method)
+                t1 = time.perf_counter()
+                gl.frame(r.volume_clip, method)
+                draw.append(time.perf_counter() - t1)
+                frames.append(t1 - t0)  # the whole call: mask, eye-in-shadow test and warnings included
+                cpu.append(r.timings["silhouette"] + r.timings["volume"])
+                raster.append(r.timings["raster"])
+            gl_frames = [c + d for c, d in zip(cpu, draw)]
+            own, theirs = 1000 * min(frames), 1000 * min(gl_frames)
+            print(
+                f"{name:<16} {size:>4}x{size:<4} {method:<6} {1000 * min(cpu):10.2f} {1000 * min(raster):7.2f} "
+                f"{1000 * min(draw):8.2f} {own:8.2f} {theirs:8.2f} {own / theirs:16.2f}x  "
+                f"{cmp.mismatched} px differ, {cmp.far} far from an edge"
+            )
+        print(f"  ({gl.renderer})")
 
 
 def _timed(cmd: list[str], env: dict[str, str]) -> float:
@@ -366,21 +371,18 @@ def main() -> int:
             f"{'scene':<16} {'size':>9} {'method':<6} {'rasteriser':<10} {'silhouette':>10} {'volume':>7} "
             f"{'raster':>7} {'total':>7} {'vs baseline':>11}"
         )
-        for name, path in scenes:
-            base = load_scene(path)
-            for size in sizes:
-                sc = base.with_resolution(size, size)
-                for method in ("zpass", "zfail"):
-                    first = None
-                    for label, raster in rasterisers().items():
-                        with using(raster):
-                            t = best_frame(sc, method, "reference", repeat)
-                        first = first or t["total"]
-                        print(
-                            f"{name:<16} {size:>4}x{size:<4} {method:<6} {label:<10} {t['silhouette']:10.2f} "
-                            f"{t['volume']:7.2f} {t['raster']:7.2f} {t['total']:7.2f} "
-                            f"{first / t['total']:10.2f}x"
-                        )
+        for name, size, sc in resized(scenes, sizes):
+            for method in ("zpass", "zfail"):
+                first = None
+                for label, raster in rasterisers().items():
+                    with using(raster):
+                        t = best_frame(sc, method, "reference", repeat)
+                    first = first or t["total"]
+                    print(
+                        f"{name:<16} {size:>4}x{size:<4} {method:<6} {label:<10} {t['silhouette']:10.2f} "
+                        f"{t['volume']:7.2f} {t['raster']:7.2f} {t['total']:7.2f} "
+                        f"{first / t['total']:10.2f}x"
+                    )
         raster_passes(load_scene(scenes_dir / "cow_and_cubes.json"), max(10, 4 * repeat))
         if args.llvmpipe:
             llvmpipe_frames(scenes, sizes, max(10, 4 * repeat))

@@ -62,7 +62,7 @@ class GLStencil:
         status = GL.glCheckFramebufferStatus(GL.GL_FRAMEBUFFER)
         if status != GL.GL_FRAMEBUFFER_COMPLETE:
             raise RuntimeError(f"gl_stencil: framebuffer incomplete (status {status:#x})")
-        self.program = self._program()
+        self._use_program()
         self.vao = GL.glGenVertexArrays(1)
         GL.glBindVertexArray(self.vao)
         self.scene_vbo, self.volume_vbo = GL.glGenBuffers(2)
@@ -72,7 +72,8 @@ class GLStencil:
         GL.glClearDepth(1.0)
         GL.glClearStencil(0)
 
-    def _program(self) -> int:
+    def _use_program(self) -> None:
+        """Compile, link and bind the pass-through program (the only one: it stays bound)."""
         GL = self.gl
         prog = GL.glCreateProgram()
         for kind, src in ((GL.GL_VERTEX_SHADER, VERTEX), (GL.GL_FRAGMENT_SHADER, FRAGMENT)):
@@ -84,7 +85,6 @@ class GLStencil:
             GL.glAttachShader(prog, sh)
         GL.glLinkProgram(prog)
         GL.glUseProgram(prog)
-        return prog
 
     def _upload(self, vbo: int, clip: np.ndarray) -> int:
         GL = self.gl

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.mesh.coplanar import merge
-from silcount.mesh.model import Mesh, weld
+from silcount.mesh.model import Mesh, unique_rows, weld
 
 NEAR_DUPLICATE_RELATIVE = 1e-9
 """Vertices closer than this times the bounding radius are reported as near-duplicates."""
@@ -60,17 +60,14 @@ def duplicate_faces(mesh: Mesh) -> int:
     rank = np.arange(mesh.n_sides) - mesh.face_start[mesh.side_face]
     table = np.full((mesh.n_faces, int(mesh.face_sizes.max())), -1, dtype=np.int64)
     table[mesh.side_face, rank] = mesh.corners[order]
-    if not table.size:
-        return 0
-    base = mesh.n_vertices + 1  # one integer key per row when it fits in int64 (np.unique(axis=0) is slow)
+    base = mesh.n_vertices + 1  # one int64 key per row when it fits: sorting keys is ~2x faster than rows
     if table.shape[1] * np.log2(base) < 62:
         key = np.zeros(mesh.n_faces, dtype=np.int64)
         for col in table.T:
             key = key * base + (col + 1)
         key.sort()
         return int(np.count_nonzero(key[1:] == key[:-1]))
-    rows = table[np.lexsort(table.T[::-1])]
-    return int(np.count_nonzero(~(rows[1:] != rows[:-1]).any(axis=1)))
+    return mesh.n_faces - int(unique_rows(table)[0].shape[0])
 
 
 def near_duplicate_vertices(mesh: Mesh) -> tuple[int, float]:
