@@ -28,7 +28,8 @@ SELECTION: dict[str, str] = {
     "silcount/counting/arithmetic.py": "tests/test_arithmetic.py",
     "silcount/counting/paper.py": "tests/test_models_dir.py tests/test_ta.py tests/test_formulas.py",
     "silcount/counting/cycles.py": "tests/test_cycles.py",
-    "silcount/detectors/base.py": f"tests/test_vnv.py tests/test_reference.py tests/test_eesd.py {COMMON}",
+    "silcount/detectors/base.py": f"tests/test_base.py tests/test_vnv.py tests/test_reference.py tests/test_eesd.py "
+    f"{COMMON}",
     "silcount/detectors/edge_array.py": f"tests/test_ta.py tests/test_hsd.py {COMMON}",
     "silcount/detectors/adjacency.py": f"tests/test_reference.py tests/test_detect_many.py {COMMON}",
     "silcount/detectors/reference.py": f"tests/test_reference.py tests/test_detect_many.py {COMMON}",

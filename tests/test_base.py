@@ -1,0 +1,44 @@
+"""The shared result assembly (``detectors/base.py``): id normalisation and the reference comparison, by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import silcount
+from silcount import DirectionalLight
+from silcount.detectors.base import compare_with_reference, unique_ids
+
+
+@pytest.mark.parametrize(
+    "ids, expected",
+    [
+        ([], []),
+        ([7], [7]),
+        ([3, 1], [1, 3]),  # two ids, descending
+        ([2, 2], [2]),  # two ids, equal
+        ([0, 5, 3], [0, 3, 5]),  # the first is the least: only the tail is out of order
+        ([1, 4, 4, 9], [1, 4, 9]),  # ascending but not strictly
+        ([9, 3, 9, 0, 3], [0, 3, 9]),
+        ([[4, 2], [2, 8]], [2, 4, 8]),  # any shape is flattened
+    ],
+)
+def test_unique_ids_sorts_and_drops_repeats(ids, expected):
+    out = unique_ids(np.asarray(ids, dtype=np.int64))
+    assert out.dtype == np.int64 and out.tolist() == expected
+
+
+def test_compare_with_reference_counts_missed_and_extra_edges():
+    # the quad cube lit along +x: the reference silhouette is the four edges of the x = +0.5 quad
+    cube = silcount.builtin_mesh("quad_cube")
+    light = DirectionalLight((1.0, 0.0, 0.0))
+    ref = silcount.detect(cube, light, "reference").edge_ids
+    assert ref.size == 4
+    others = np.setdiff1d(np.arange(cube.n_edges), ref)
+    found = np.sort(np.concatenate([ref[:1], others[:2]]))  # one reference edge and two others
+    assert compare_with_reference(cube, light, found) == {
+        "missed_edges": 3,
+        "extra_edges": 2,
+        "disagreement_with_reference": 5,
+    }
+    assert compare_with_reference(cube, light, ref)["disagreement_with_reference"] == 0
