@@ -42,3 +42,13 @@ def test_compare_with_reference_counts_missed_and_extra_edges():
         "disagreement_with_reference": 5,
     }
     assert compare_with_reference(cube, light, ref)["disagreement_with_reference"] == 0
+
+
+@pytest.mark.parametrize("name", ["reference", "ta", "vnv", "hsd", "eesd"])
+def test_every_result_carries_the_mesh_sizes_the_paper_models_take(name):
+    # the quad cube by hand: 12 edges, 6 faces, 4 sides per face
+    cube = silcount.builtin_mesh("quad_cube")
+    res = silcount.detect(cube, DirectionalLight((0.2, 0.3, 1.0)), name)
+    assert {k: res.paper_params[k] for k in ("e_n", "f_n", "m")} == {"e_n": 12, "f_n": 6, "m": 4.0}
+    # every detector but the reference is compared with the reference; the reference is not compared with itself
+    assert ("missed_edges" in res.notes) == (name != "reference")
