@@ -1,6 +1,7 @@
 """The reference detector, checked against silhouettes worked out by hand."""
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from strategies import examples, mesh_and_light
 
@@ -134,3 +135,32 @@ def test_ties_on_a_mesh_of_several_parallel_chunks():
     light = silcount.DirectionalLight((1.0, 0.5, 0.0))
     assert silcount.detect(m, light, "reference").ties == m.n_faces
     assert silcount.detect_many(m, [light, silcount.DirectionalLight((0.0, 0.0, 1.0))])[0].ties == m.n_faces
+
+
+def strip(n_faces: int) -> silcount.Mesh:
+    """A flat zigzag strip of triangles in z = 0, all wound to +z but the last, wound to -z.
+
+    Triangle i is on vertices i, i+1, i+2; the last shares edge (F-1, F) with its neighbour, the strip's
+    last two-sided edge.  Lit from +z, faces 0 .. F-2 face the light and the last does not: the
+    silhouette is the F boundary edges of the lit faces and (F-1, F), so F + 1 edges.
+    """
+    i = np.arange(n_faces + 2)
+    v = np.column_stack([0.5 * i, i % 2, np.zeros(i.size)]).astype(float)
+    t = np.arange(n_faces)
+    faces = np.where((t % 2 == 0)[:, None], np.column_stack([t, t + 2, t + 1]), np.column_stack([t, t + 1, t + 2]))
+    faces[-1] = faces[-1][[0, 2, 1]]
+    return silcount.from_polygons(v, faces)
+
+
+@pytest.mark.parametrize("n_faces", [65_537, 65_538])
+def test_a_last_chunk_of_one_face_or_one_edge_is_not_dropped(n_faces):
+    # 65,537 faces: the faces' last chunk holds one face; 65,538 faces: 65,537 two-sided edges, so the
+    # edges' last chunk holds only (F-1, F), the one edge between a lit and an unlit face
+    m = strip(n_faces)
+    assert m.n_faces == n_faces and int((m.edge_valence == 2).sum()) == n_faces - 1
+    up, along = silcount.DirectionalLight((0.0, 0.0, 1.0)), silcount.DirectionalLight((1.0, 0.0, 0.0))
+    last = int(np.flatnonzero((m.edges == [n_faces - 1, n_faces]).all(axis=1))[0])
+    for res in (silcount.detect(m, up, "reference"), silcount.detect_many(m, [up, along])[0]):
+        assert res.n_edges == n_faces + 1 and last in res.edge_ids.tolist() and res.ties == 0
+    for res in (silcount.detect(m, along, "reference"), silcount.detect_many(m, [along, up])[0]):
+        assert res.ties == n_faces and res.n_edges == 0  # along the plane: every facing value is exactly 0
