@@ -62,3 +62,17 @@ def test_zeros_in_every_packet_position():
     expected = brute_force(pts, planes)
     assert np.array_equal(got, expected)
     assert expected.sum() >= 150 * 17 * 17
+
+
+def test_point_counts_that_fill_the_last_leaves():
+    # The tree has 2^k leaves of 16 points; when the points fill the last two leaves (n_leaves = 2^k or
+    # 2^k - 1), the last internal node's box is needed.  Every point of the dyadic grid lies on exactly
+    # three of its 24 axis planes, so a leaf the walk never reaches shows as a missing count.
+    g = np.arange(-4, 4) / 4.0
+    grid = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)  # 512 points
+    planes = np.array([[*np.eye(3)[k], -off] for k in range(3) for off in g])
+    for n in (1, 16, 17, 32, 33, 48, 64, 240, 256, 496, 512):
+        got = zeros_per_point(grid[:n], planes)
+        expected = brute_force(grid[:n], planes)
+        assert np.array_equal(got, expected), n
+        assert expected.tolist() == [3] * n
