@@ -164,3 +164,35 @@ def test_a_last_chunk_of_one_face_or_one_edge_is_not_dropped(n_faces):
         assert res.n_edges == n_faces + 1 and last in res.edge_ids.tolist() and res.ties == 0
     for res in (silcount.detect(m, along, "reference"), silcount.detect_many(m, [along, up])[0]):
         assert res.ties == n_faces and res.n_edges == 0  # along the plane: every facing value is exactly 0
+
+
+def test_silhouettes_spread_over_several_parallel_chunks_match_numpy():
+    # A bumpy height field of 140,450 faces and 210,145 two-sided edges: three and four of the kernels'
+    # 65,536-element chunks, with silhouette edges in every chunk, so each chunk's run of ids must be
+    # found and compacted in order.  Expected: the rule "exactly one lit face", from numpy's facing
+    # values (L - p0) . ((p1 - p0) x (p2 - p0)) and a count of lit faces per edge.
+    n = 265
+    rng = np.random.default_rng(5)
+    g = np.arange(n + 1, dtype=float)
+    x, y = np.meshgrid(g, g, indexing="ij")
+    v = np.column_stack([x.ravel(), y.ravel(), rng.uniform(0.0, 0.8, x.size)])
+    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
+    faces = np.concatenate([np.column_stack([i, i + n + 1, i + 1]), np.column_stack([i + 1, i + n + 1, i + n + 2])])
+    m = silcount.from_polygons(v, faces)
+    assert m.n_faces > 2 * 65_536 and int((m.edge_valence == 2).sum()) > 3 * 65_536
+    p0, p1, p2 = (m.vertices[m.faces[:, k]] for k in range(3))
+    nrm = np.cross(p1 - p0, p2 - p0)
+    lights = [
+        silcount.PointLight((130.0, 120.0, 3.0)),
+        silcount.DirectionalLight((0.3, -0.2, 0.25)),
+        silcount.PointLight((-40.0, 300.0, 1.5)),
+    ]
+    many = silcount.detect_many(m, lights)
+    for light, res_many in zip(lights, many, strict=True):
+        d = np.asarray(light.direction)[None, :] if light.is_directional else np.asarray(light.position) - p0
+        lit = (d * nrm).sum(axis=1) > 0.0
+        n_lit = np.bincount(m.side_edge, weights=lit[m.side_face], minlength=m.n_edges)
+        expected = np.flatnonzero(n_lit == 1)
+        assert expected.size > 1000
+        for res in (silcount.detect(m, light, "reference"), res_many):
+            assert np.array_equal(res.edge_ids, expected), light
