@@ -18,6 +18,8 @@ Prints, per module, killed / survived / timed out and the survivors' ids
 from __future__ import annotations
 
 import argparse
+import ctypes
+import signal
 import sqlite3
 import subprocess
 import sys
@@ -44,10 +46,22 @@ SELECTION: dict[str, str] = {
 DESELECT = "not torus and not soup and not match_the_committed"
 
 
+def _die_with_parent() -> None:
+    """In the pytest child: be killed when the judge is (Linux ``PR_SET_PDEATHSIG``).
+
+    On a timeout mutmut SIGKILLs the judge; without this its pytest (a mutant
+    looping forever) would live on holding mutmut's pty, and mutmut would wait
+    on it for ever instead of recording the timeout.
+    """
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1 = PR_SET_PDEATHSIG
+
+
 def judge(tests: list[str]) -> int:
     """Run the selection; 0 if it passes, 1 for any failure (failed test, crash, collection error)."""
     cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", "not hypothesis"]
-    return 0 if subprocess.run([*cmd, "-k", DESELECT, *tests], check=False).returncode == 0 else 1
+    linux = sys.platform.startswith("linux")
+    done = subprocess.run([*cmd, "-k", DESELECT, *tests], check=False, preexec_fn=_die_with_parent if linux else None)
+    return 0 if done.returncode == 0 else 1
 
 
 def run(module: str, tests: str, python: str) -> None:
