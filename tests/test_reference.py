@@ -186,6 +186,7 @@ def test_silhouettes_spread_over_several_parallel_chunks_match_numpy():
         silcount.PointLight((130.0, 120.0, 3.0)),
         silcount.DirectionalLight((0.3, -0.2, 0.25)),
         silcount.PointLight((-40.0, 300.0, 1.5)),
+        silcount.DirectionalLight((-0.1, 0.35, 0.2)),  # two of each kind: each light's bit is its own
     ]
     many = silcount.detect_many(m, lights)
     for light, res_many in zip(lights, many, strict=True):
