@@ -82,3 +82,23 @@ def test_bad_arguments():
     with pytest.raises(BadArgument):
         detect_many(MESHES["cube"], [PointLight((0, 0, 5))], "nope")
     assert detect_many(MESHES["cube"], []) == []
+
+
+def test_a_full_batch_of_64_lights_and_more_equals_single():
+    # 70 fixed lights (so the fast `make mutation` selection, which runs no hypothesis test, sees them): a
+    # full 64-light batch, whose every bit position maps back to its light, then a second batch of 6.
+    # Point and directional lights alternate, and every fifth point light is on the cube's plane x = 0.5.
+    rng = np.random.default_rng(11)
+    lights = []
+    for k in range(70):
+        x, y, z = rng.uniform(-4.0, 4.0, 3)
+        if k % 2:
+            lights.append(DirectionalLight((x, y, z)))
+        else:
+            lights.append(PointLight((0.5, y, z) if k % 10 == 0 else (x, y, z)))
+    for mesh in MESHES.values():
+        many = detect_many(mesh, lights)
+        for L, got in zip(lights, many, strict=True):
+            _same(got, detect(mesh, L))
+    cube = MESHES["cube"]
+    assert sum(r.ties for r in detect_many(cube, lights)) >= 7 * 2  # the on-plane lights: ties, per light
