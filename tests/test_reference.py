@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from strategies import examples, mesh_and_light
 
 import silcount
+from silcount.detectors.adjacency import silhouette_edge_ids
 
 
 def test_quad_cube_light_on_axis_sees_square_ring():
@@ -197,3 +198,4 @@ def test_silhouettes_spread_over_several_parallel_chunks_match_numpy():
         assert expected.size > 1000
         for res in (silcount.detect(m, light, "reference"), res_many):
             assert np.array_equal(res.edge_ids, expected), light
+        assert np.array_equal(silhouette_edge_ids(m, light), expected)  # the kernels' own output: no repeats
