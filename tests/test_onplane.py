@@ -76,3 +76,12 @@ def test_point_counts_that_fill_the_last_leaves():
         expected = brute_force(grid[:n], planes)
         assert np.array_equal(got, expected), n
         assert expected.tolist() == [3] * n
+
+
+def test_an_all_zero_plane_holds_every_point():
+    # A degenerate face (zero normal) gives the plane (0, 0, 0, 0): the float test is 0 == 0 for every
+    # point, so nothing may be pruned although the prune bound is 0.
+    rng = np.random.default_rng(3)
+    pts = rng.normal(size=(100, 3))
+    planes = np.array([[0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 5.0]])
+    assert zeros_per_point(pts, planes).tolist() == [1] * 100
