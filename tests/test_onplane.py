@@ -85,3 +85,14 @@ def test_an_all_zero_plane_holds_every_point():
     pts = rng.normal(size=(100, 3))
     planes = np.array([[0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 5.0]])
     assert zeros_per_point(pts, planes).tolist() == [1] * 100
+
+
+def test_plane_counts_at_the_packet_edges_and_degenerate_inputs():
+    # 65 planes: the last packet holds one plane, the one that holds the points; one plane alone;
+    # points that are all NaN (on no plane).
+    pts = np.array([[0.25, 0.5, 1.0], [0.25, -3.0, 2.0], [1.0, 1.0, 1.0]])
+    x_quarter = [1.0, 0.0, 0.0, -0.25]
+    planes = np.vstack([np.tile([0.0, 0.0, 1.0, 9.0], (64, 1)), [x_quarter]])
+    assert zeros_per_point(pts, planes).tolist() == [1, 1, 0]
+    assert zeros_per_point(pts, np.array([x_quarter])).tolist() == [1, 1, 0]
+    assert zeros_per_point(np.full((4, 3), np.nan), planes).tolist() == [0, 0, 0, 0]
