@@ -284,7 +284,7 @@ def test_oriented_edges_run_along_their_first_lit_side(case, engine):
 # ---- naive == fast on fixed small meshes -----------------------------------------------------------------
 # The hypothesis properties hold the engines equal on drawn meshes; these fixed cases keep that check in
 # the fast selection `make mutation` runs (which deselects hypothesis): a point light off every axis, one
-# inside every closed mesh, and a directional light.  (A Fenwick query of TA's S that skipped node 1, i.e.
+# near the origin, and a directional light.  (A Fenwick query of TA's S that skipped node 1, i.e.
 # miscounted a reverse edge found in slot 1, passed every other test of the selection.)
 FIXED = ["tetrahedron", "quad_cube", "triangle_cube", "icosahedron", "plane"]
 FIXED_LIGHTS = [PointLight((2.3, 1.7, 3.1)), PointLight((0.05, -0.1, 0.02)), DirectionalLight((-0.4, 0.9, 0.3))]
