@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from plain_rules import facing, sides
 
 import silcount
 from silcount import DirectionalLight, PointLight, from_polygons
@@ -226,29 +227,16 @@ def test_a_directed_edge_repeated_while_its_first_copy_is_first_in_S():
 # ---- which way a silhouette edge runs ------------------------------------------------------------------
 def plain_oriented(mesh, edges: list[list[int]], light) -> list[tuple[int, int, int]]:
     """(a, b, k): each edge as traversed by its first light-facing side in side order (faces in order,
-    corners in order), else by its first side, and that side's place k among the edge's sides; facing by
-    the papers' (L - p0) . (p1 - p0) x (p2 - p0) > 0 (for a directional light, d . n), in plain Python:
-    the rule ``Silhouette.oriented`` documents."""
-    v = mesh.vertices.tolist()
-    corners, start = mesh.corners.tolist(), mesh.face_start.tolist()
-    sides: dict[frozenset, list[tuple[bool, int, int]]] = {}
-    for f in range(mesh.n_faces):
-        ring = corners[start[f] : start[f + 1]]
-        p0, p1, p2 = (v[i] for i in ring[:3])
-        u = [p1[k] - p0[k] for k in range(3)]
-        w = [p2[k] - p0[k] for k in range(3)]
-        n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
-        d = (
-            list(light.direction)
-            if isinstance(light, DirectionalLight)
-            else [light.position[k] - p0[k] for k in range(3)]
-        )
-        lit = d[0] * n[0] + d[1] * n[1] + d[2] * n[2] > 0
-        for a, b in zip(ring, ring[1:] + ring[:1], strict=True):
-            sides.setdefault(frozenset((a, b)), []).append((lit, a, b))
+    corners in order), else by its first side, and that side's place k among the edge's sides, from the
+    plain-Python facing flags: the rule ``Silhouette.oriented`` documents."""
+    lit = facing(mesh, light)[0]
+    by_edge: dict[frozenset, list[tuple[bool, int, int]]] = {}
+    for p in range(mesh.n_faces):
+        for a, b in sides(mesh, p):
+            by_edge.setdefault(frozenset((a, b)), []).append((lit[p], a, b))
     out = []
     for a, b in edges:
-        run_ = sides[frozenset((a, b))]
+        run_ = by_edge[frozenset((a, b))]
         k = next((k for k, s in enumerate(run_) if s[0]), 0)
         out.append((run_[k][1], run_[k][2], k))
     return out

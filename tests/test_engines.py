@@ -6,9 +6,10 @@ non-manifold fins, reversed faces, arbitrary triangle sets), for every
 detector.  Lights: far, axis-aligned, on a face's plane, grazing, inside, at a
 vertex, at the bounding box (``strategies.hard_lights_for``).
 
-The second implementation is written here in plain Python, independent of
-the package's kernels: facing values ``(L - p0) . ((p1 - p0) x (p2 - p0))``
-(the same operation order, so bit-identical), the reference rule over a dict
+The second implementation is written here (and in ``plain_rules``) in plain
+Python, independent of the package's kernels: facing values
+``(L - p0) . ((p1 - p0) x (p2 - p0))`` (the same operation order, so
+bit-identical), the reference rule over a dict
 of edges to faces, TA's array S as a Python list, VnV's counters as
 integers.  ``missed_edges`` / ``extra_edges`` are checked against this
 reference, not against the package's own.
@@ -19,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from plain_rules import facing, sides
 from strategies import any_meshes, closed_meshes, examples, hard_lights_for
 
 import silcount
@@ -32,29 +34,9 @@ def _settings(n: int):
     return settings(max_examples=examples(n), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-def facing(mesh, light) -> tuple[list[bool], int]:
-    """Each face's light-facing flag and the number of exact ties, from the face's first three corners."""
-    flags, ties = [], 0
-    for p in range(mesh.n_faces):
-        s = mesh.face_start[p]
-        p0, p1, p2 = (mesh.vertices[mesh.corners[s + k]] for k in range(3))
-        e1, e2 = p1 - p0, p2 - p0
-        n = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0])
-        d = light.direction if light.is_directional else tuple(light.position[c] - p0[c] for c in range(3))
-        value = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
-        flags.append(bool(value > 0.0))
-        ties += value == 0.0
-    return flags, ties
-
-
 def facing_value_is_zero(mesh, light, p) -> bool:
     one = silcount.from_polygons(mesh.vertices, [mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]]])
     return facing(one, light)[1] == 1
-
-
-def sides(mesh, p) -> list[tuple[int, int]]:
-    c = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
-    return [(c[k], c[(k + 1) % len(c)]) for k in range(len(c))]
 
 
 def reference_edges(mesh, flags) -> set[tuple[int, int]]:

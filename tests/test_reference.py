@@ -122,17 +122,21 @@ def test_a_single_non_manifold_edge():
     assert shared_edge_found  # some light makes the four-face edge a silhouette edge
 
 
+def height_field(n: int, z: np.ndarray) -> silcount.Mesh:
+    """An n x n grid of unit squares, two triangles each, over the (n+1)^2 heights ``z`` (x-major)."""
+    g = np.arange(n + 1, dtype=float)
+    x, y = np.meshgrid(g, g, indexing="ij")
+    v = np.column_stack([x.ravel(), y.ravel(), z])
+    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
+    faces = np.concatenate([np.column_stack([i, i + n + 1, i + 1]), np.column_stack([i + 1, i + n + 1, i + n + 2])])
+    return silcount.from_polygons(v, faces)
+
+
 def test_ties_on_a_mesh_of_several_parallel_chunks():
     # 140,450 coplanar triangles (more than two of the kernels' 65,536-face chunks) and a light
     # parallel to them: every facing value is exactly 0, so every face is a tie, counted once.
-    n = 265
-    g = np.arange(n + 1, dtype=float)
-    x, y = np.meshgrid(g, g, indexing="ij")
-    v = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
-    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
-    faces = np.concatenate([np.column_stack([i, i + n + 1, i + 1]), np.column_stack([i + 1, i + n + 1, i + n + 2])])
-    m = silcount.from_polygons(v, faces)
-    assert m.n_faces == 2 * n * n > 2 * 65536
+    m = height_field(265, np.zeros(266 * 266))
+    assert m.n_faces == 2 * 265 * 265 > 2 * 65536
     light = silcount.DirectionalLight((1.0, 0.5, 0.0))
     assert silcount.detect(m, light, "reference").ties == m.n_faces
     assert silcount.detect_many(m, [light, silcount.DirectionalLight((0.0, 0.0, 1.0))])[0].ties == m.n_faces
@@ -172,14 +176,7 @@ def test_silhouettes_spread_over_several_parallel_chunks_match_numpy():
     # 65,536-element chunks, with silhouette edges in every chunk, so each chunk's run of ids must be
     # found and compacted in order.  Expected: the rule "exactly one lit face", from numpy's facing
     # values (L - p0) . ((p1 - p0) x (p2 - p0)) and a count of lit faces per edge.
-    n = 265
-    rng = np.random.default_rng(5)
-    g = np.arange(n + 1, dtype=float)
-    x, y = np.meshgrid(g, g, indexing="ij")
-    v = np.column_stack([x.ravel(), y.ravel(), rng.uniform(0.0, 0.8, x.size)])
-    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
-    faces = np.concatenate([np.column_stack([i, i + n + 1, i + 1]), np.column_stack([i + 1, i + n + 1, i + n + 2])])
-    m = silcount.from_polygons(v, faces)
+    m = height_field(265, np.random.default_rng(5).uniform(0.0, 0.8, 266 * 266))
     assert m.n_faces > 2 * 65_536 and int((m.edge_valence == 2).sum()) > 3 * 65_536
     p0, p1, p2 = (m.vertices[m.faces[:, k]] for k in range(3))
     nrm = np.cross(p1 - p0, p2 - p0)
