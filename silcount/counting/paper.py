@@ -26,6 +26,8 @@ DEFAULT_PAPER_MODEL = {
     "vnv": "eesd2012-vnv",
     "hsd": "hsd2011-hsd",
     "eesd": "eesd2012-eesd",
+    "gaussmap": "silcount-gaussmap",
+    "cones": "silcount-cones",
 }
 
 

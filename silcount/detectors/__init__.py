@@ -7,19 +7,30 @@
 | vnv         | HSD 2011 Sec. 4.2; EESD 2012 Sec. 3.2   | vnv.py        |
 | hsd         | HSD 2011 Sec. V, 6.3                    | hsd.py        |
 | eesd        | EESD 2012 Sec. 3.3, 5.3                 | eesd.py       |
+| gaussmap    | Gooch et al., I3D 1999, Sec. 4.1        | gaussmap.py   |
+| cones       | Johnson & Cohen, I3D 2001, Sec. 3;      | cones.py      |
+|             | Sander et al., SIGGRAPH 2000, Sec. 3    |               |
+
+The first five are the papers' (and silcount's O(E) yardstick); the last two
+are the literature's output-sensitive detectors of the time, set beside them
+(``docs/literature.md``).
 
 Beside them: ``base.py`` (the result type, counted visibility),
 ``adjacency.py`` (light-facing flags and the reference rule, shared by all),
 ``edge_array.py`` (TA's and HSD's array S), ``onplane.py`` (EESD literal's
-point-on-plane search) and ``plain.py`` (each algorithm's loops compiled and
-uncounted, for timing).  :data:`REGISTRY` maps each name to its ``detect``.
+point-on-plane search), ``hierarchy.py``, ``hierarchy_naive.py`` and
+``hierarchy_query.py`` (the bounded edge tree gaussmap and cones share),
+``morton.py`` (their Z-order keys) and ``plain.py`` (each algorithm's loops compiled and
+uncounted, for timing).  :data:`REGISTRY` maps each name to its ``detect``,
+:data:`LABELS` to the name tables and figures give it; :data:`ONE_VARIANT` are
+the detectors with one variant (:func:`variants_of`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from silcount.detectors import eesd, hsd, reference, ta, vnv
+from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
 from silcount.detectors.base import ENGINES, VARIANTS, Silhouette
 from silcount.errors import BadArgument
 from silcount.mesh.lights import Light
@@ -32,8 +43,27 @@ REGISTRY: dict[str, Detector] = {
     "vnv": vnv.detect,
     "hsd": hsd.detect,
     "eesd": eesd.detect,
+    "gaussmap": gaussmap.detect,
+    "cones": cones.detect,
 }
+LITERATURE: tuple[str, ...] = ("gaussmap", "cones")  # the output-sensitive detectors beside the papers'
 DETECTORS: tuple[str, ...] = tuple(REGISTRY)
+ONE_VARIANT: tuple[str, ...] = ("reference", *LITERATURE)  # ``variant`` accepted and ignored: one run, ``intended``
+LABELS: dict[str, str] = {
+    "reference": "reference",
+    "ta": "TA",
+    "vnv": "VnV",
+    "hsd": "HSD",
+    "eesd": "EESD",
+    "gaussmap": "Gauss map",
+    "cones": "normal cones",
+}  # how tables and figures name each detector
+
+
+def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
+    """The variants of ``variants`` that are distinct runs of detector ``name``: ``intended`` alone for
+    :data:`ONE_VARIANT`, whose ``literal`` would repeat it."""
+    return ("intended",) if name in ONE_VARIANT else tuple(variants)
 
 
 def detect(
@@ -70,4 +100,14 @@ def detect_many(
     return [REGISTRY[name](mesh, light, variant=variant, engine=engine) for light in lights]
 
 
-__all__ = ["DETECTORS", "REGISTRY", "detect", "detect_many", "Silhouette"]
+__all__ = [
+    "DETECTORS",
+    "LABELS",
+    "LITERATURE",
+    "ONE_VARIANT",
+    "REGISTRY",
+    "detect",
+    "detect_many",
+    "variants_of",
+    "Silhouette",
+]

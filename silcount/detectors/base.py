@@ -44,7 +44,7 @@ class Silhouette:
     true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
     paper_model: str  # the models/ file whose per-line costs give the ``paper`` cost model
     paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
-    ties: int = 0  # faces whose facing value is exactly 0
+    ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
     notes: dict[str, Any] = field(default_factory=dict)
     mesh: Mesh | None = field(default=None, repr=False)  # the mesh the ids index
     orient: Callable[[], np.ndarray] | None = field(default=None, repr=False)  # computes ``oriented``

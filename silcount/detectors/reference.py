@@ -68,7 +68,7 @@ def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, 
     return np.asarray(out, dtype=np.int64), steps, counter, ties, np.asarray(flags.data).astype(bool)
 
 
-def _fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
+def fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
     """Steps and ``true`` tally of the loops of :func:`_naive` with ``k`` silhouette edges (no branch on data)."""
     F, E, H = mesh.n_faces, mesh.n_edges, mesh.n_sides
     true: dict[str, int] = {}
@@ -83,7 +83,7 @@ def _fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
 def _fast(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, dict, int, np.ndarray]:
     is_facing, ties = facing_flags(mesh, light)
     ids = edge_ids_of(mesh, is_facing)
-    steps, true = _fast_tally(mesh, light, int(ids.size))
+    steps, true = fast_tally(mesh, light, int(ids.size))
     return ids, steps, true, ties, is_facing
 
 
@@ -101,7 +101,7 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
     """:func:`detect` (``fast``) for each light, 64 lights per pass (:func:`.adjacency.many_edge_ids`)."""
     out = []
     for light, (ids, ties, bits, j) in zip(lights, many_edge_ids(mesh, lights), strict=True):
-        steps, true = _fast_tally(mesh, light, int(ids.size))
+        steps, true = fast_tally(mesh, light, int(ids.size))
         flags = partial(facing_of_bits, bits, j)  # computed only if ``oriented`` is asked for
         out.append(make_silhouette(mesh, light, NAME, variant, "fast", ids, steps, true, ties, flags))
     return out

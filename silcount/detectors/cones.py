@@ -1,0 +1,120 @@
+"""The spatialized normal-cone hierarchy: Johnson and Cohen, I3D 2001, Sec. 3; Sander et al., SIGGRAPH 2000, Sec. 3.
+
+A tree over clusters of edges; each node keeps a bound on its faces'
+positions and one on their normals, so that a single test proves "no
+silhouette edge below here" for the light at hand and the whole subtree is
+skipped.  Johnson and Cohen bound a cluster's normals by a cone (axis and
+half-angle) and its positions by a sphere; Sander et al. anchor such cones
+at the cluster.  Point and directional lights.
+
+silcount's reading
+------------------
+* **Clusters** are ``leaf_size`` consecutive edges in the 3-D Z-order of
+  the point ``p0(f1) + p0(f2)`` (the first vertices of the edge's two faces),
+  grouped ``fanout`` at a time up to one root (:mod:`.hierarchy`): a
+  spatial tree, as in Johnson and Cohen, built bottom-up.
+* **The bounds** are axis-aligned boxes of the faces' normals (the cone's
+  bounding box) and of their ``p0``.  A cone test needs the angle between
+  the light and the cone's axis, whose rounding would need its own error
+  margin; the boxes' test is exact in floating point (proof in
+  :mod:`.hierarchy`), so the answer is exactly the ``reference`` edge set,
+  ties, grazing lights and lights in a face's plane included.  A box holds
+  its cone, so it prunes no node a cone would keep and may keep some a cone
+  would prune: the counts are, if anything, this hierarchy's worst.
+
+Parameters: ``leaf_size`` (default 8) and ``fanout`` (default 4); see
+``docs/literature.md``.  The build's own tally is in ``notes['build']``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
+from silcount.detectors.base import Silhouette
+from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
+from silcount.detectors.hierarchy_query import detect as detect_with
+from silcount.detectors.morton import interleave3
+from silcount.mesh.lights import Light
+from silcount.mesh.model import Mesh
+
+NAME = "cones"
+QUANT = float((1 << 21) - 1)
+
+
+def _frame(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``2 lo`` and the scale that maps ``[2 lo, 2 hi]`` onto ``[0, QUANT]`` (1 for a flat axis)."""
+    lo2, hi2 = lo + lo, hi + hi
+    span = hi2 - lo2
+    return lo2, QUANT / np.where(span > 0.0, span, 1.0)
+
+
+@njit(cache=True)
+def _keys(p0, f1, f2, lo2, scale):  # pragma: no cover - compiled
+    """Z-order codes of the grid cells of ``p0(f1) + p0(f2)``, with :func:`key_naive`'s arithmetic."""
+    T = f1.size
+    keys = np.empty(T, dtype=np.uint64)
+    cell = np.empty(3, dtype=np.uint64)
+    for i in range(T):
+        for c in range(3):
+            q = (p0[f1[i], c] + p0[f2[i], c] - lo2[c]) * scale[c]
+            cell[c] = np.uint64(q) if np.isfinite(q) else np.uint64(0)
+        keys[i] = interleave3(cell[0], cell[1], cell[2])
+    return keys
+
+
+def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
+    """Z-order keys of ``p0(f1) + p0(f2)`` in the box of every ``p0``, with :func:`key_naive`'s arithmetic."""
+    p0 = mesh.face_p0
+    lo2, scale = _frame(p0.min(axis=0), p0.max(axis=0))
+    return _keys(p0, f1, f2, lo2, scale)
+
+
+def setup_naive(p0: Memory, F: int, counter: OpCounter) -> tuple:
+    """The box of every stored ``p0`` (3 R, 6 C per face), then ``2 lo`` and the scale (9 A, 3 C, 3 div)."""
+    lo: list[Num | float] = [math.inf] * 3
+    hi: list[Num | float] = [-math.inf] * 3
+    for f in range(F):
+        v = [p0[f, c] for c in range(3)]
+        lo = [x if x < m else m for x, m in zip(v, lo)]
+        hi = [x if x > m else m for x, m in zip(v, hi)]
+    lo2 = [x + x for x in lo]
+    hi2 = [x + x for x in hi]
+    span = [h - low for h, low in zip(hi2, lo2)]
+    scale = [QUANT / (s if s > 0.0 else Num(1.0, counter)) for s in span]
+    return lo2, scale
+
+
+def key_naive(p0: Memory, nrm: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
+    """One edge's key on counting arithmetic (6 R, 6 A, 3 M)."""
+    lo2, scale = consts
+    c = [p0[f1, k] + p0[f2, k] for k in range(3)]
+    q = [plain((c[k] - lo2[k]) * scale[k]) for k in range(3)]
+    cells = [np.uint64(x) if np.isfinite(x) else np.uint64(0) for x in q]
+    return int(interleave3(cells[0], cells[1], cells[2]))
+
+
+SCHEME = KeyScheme(
+    name=NAME,
+    bits=63,
+    fast=keys_fast,
+    setup_naive=setup_naive,
+    naive=key_naive,
+    key_cost={"read": 6, "add": 6, "mul": 3},
+    setup_cost=lambda F: {"read": 3 * F, "cmp": 6 * F + 3, "add": 9, "div": 3},
+)
+
+
+def detect(
+    mesh: Mesh,
+    light: Light,
+    variant: str = "intended",
+    engine: str = "fast",
+    leaf_size: int = LEAF_SIZE,
+    fanout: int = FANOUT,
+) -> Silhouette:
+    """The normal-cone hierarchy's silhouette: exactly the reference edge set.  ``variant``: there is one."""
+    return detect_with(mesh, light, NAME, SCHEME, variant, engine, leaf_size, fanout)
