@@ -97,7 +97,7 @@ def test_measure_smoke_structure(tmp_path):
 def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
     meshes = [("icosphere", builtin_mesh("icosphere0")), ("icosphere", builtin_mesh("icosphere1"))]
     times = timing.timings(meshes, n_lights=1, repeats=1)
-    assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 8
+    assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 2 * len(timing.TIMED)
     cal = calibrate(meshes, times, "test", "test", n_lights=1)
     paths = formats.write(cal, tmp_path, with_timings=True, figures=False)
     names = {p.name for p in paths}
@@ -107,6 +107,38 @@ def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
     csv = pd.read_csv(tmp_path / "calibrate.csv")
     assert list(csv.columns) == list(cal.summary.columns) and len(csv) == len(cal.summary)
     assert doc["summary_large"] == []  # icosphere0 and 1 are below LARGE_FACES
+    # the papers' four are fitted; gaussmap and cones are predicted with that fit, reported apart
+    assert doc["samples"] == 2 * len(timing.ALGORITHMS) and set(cal.samples["detector"]) == set(timing.ALGORITHMS)
+    lit = doc["literature"]
+    assert lit["detectors"] == list(timing.LITERATURE) and lit["samples"] == 2 * len(timing.LITERATURE)
+    assert {(r["model"], r["detector"]) for r in lit["summary"]} == {
+        (m, d) for m in timing.MODELS for d in timing.LITERATURE
+    }
+    assert [r["mesh"] for r in lit["per_mesh"]] == ["icosphere0", "icosphere1"]
+    assert len(pd.read_csv(tmp_path / "timings.csv")) == len(times)  # every timed sample, to reuse with --timings
+    assert "## The literature's hierarchies" in (tmp_path / "calibrate.md").read_text()
+
+
+def test_the_literature_does_not_move_the_four():
+    # timings with and without gaussmap and cones: the same fit, rank statistics and per-mesh orders
+    s = _samples(lambda r: 3e-9 * (r["true_add"] + 1))
+    base = predict.weighted(s, UNIT)
+    lit = s.assign(detector="cones", seconds=s["seconds"] * 2.0)
+    pred = predict.weighted(lit, UNIT, predict.scales_of(base))
+    assert pred["scale"].tolist() == base["scale"].tolist()  # the four's scale, not refitted
+    assert pred["ratio"].to_numpy() == pytest.approx(0.5)  # twice as slow as the fit predicts
+    summ = predict.literature_summary(pred)
+    assert set(summ["detector"]) == {"cones"} and summ["median_ratio"].to_numpy() == pytest.approx(0.5)
+
+
+def test_committed_like_timings_with_the_literature_keep_the_fours_numbers():
+    meshes = [("icosphere", builtin_mesh("icosphere0")), ("icosphere", builtin_mesh("icosphere1"))]
+    times = timing.timings(meshes, n_lights=1, repeats=1)
+    four = times[times["detector"].isin(timing.ALGORITHMS)]
+    with_lit, without = calibrate(meshes, times, "t", "t", n_lights=1), calibrate(meshes, four, "t", "t", n_lights=1)
+    for table in ("samples", "predictions", "per_mesh", "summary", "summary_large"):
+        pd.testing.assert_frame_equal(getattr(with_lit, table), getattr(without, table))
+    assert len(without.literature_samples) == 0 and json.loads(formats.to_json(without))["literature"]["summary"] == []
 
 
 def test_cli_reuses_a_timings_file(tmp_path):

@@ -5,14 +5,14 @@ from hypothesis import HealthCheck, given, settings
 from strategies import examples, mesh_and_light
 
 import silcount
-from silcount.detectors.plain import PLAIN, plain_edge_ids
+from silcount.detectors.plain import PLAIN, QUERIED, plain_edge_ids
 
 
 @settings(max_examples=examples(30), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(mesh_and_light())
 def test_plain_kernels_equal_the_detectors(ml):
     mesh, light = ml
-    for name in PLAIN:
+    for name in PLAIN + QUERIED:
         expected = silcount.detect(mesh, light, name, variant="intended").edge_ids
         got = plain_edge_ids(mesh, light, name)
         assert np.array_equal(got, expected), name
@@ -34,5 +34,5 @@ def test_plain_kernels_on_the_quad_cube_with_polygon_faces():
     light = silcount.PointLight((0.1, 0.2, 10.0))
     ref = silcount.detect(mesh, light, "reference").edge_ids
     assert ref.size == 4
-    for name in PLAIN:
+    for name in PLAIN + QUERIED:
         assert np.array_equal(plain_edge_ids(mesh, light, name), ref), name

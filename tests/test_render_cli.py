@@ -90,3 +90,15 @@ def test_render_bad_inputs(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "missing.json" in err and "bad.json" in err and "other.json" in err
     assert not (tmp_path / "m.png").exists()
+
+
+@pytest.mark.parametrize("detector", ["gaussmap", "cones"])
+def test_render_with_a_hierarchy_detector_gives_the_reference_mask(tmp_path, capsys, detector):
+    # gaussmap and cones find exactly the reference's silhouette, so their shadow volumes and masks are its own
+    s = scene_path("torus_self_shadow")
+    for method in ("zpass", "zfail"):
+        assert main(["render", s, "--method", method, "--out", str(tmp_path / f"ref.{method}.png")]) == 0
+        out = tmp_path / f"{detector}.{method}.png"
+        assert main(["render", s, "--method", method, "--detector", detector, "--out", str(out)]) == 0
+        assert f"{detector} intended" in capsys.readouterr().out
+        assert np.array_equal(np.asarray(Image.open(out)), np.asarray(Image.open(tmp_path / f"ref.{method}.png")))

@@ -41,7 +41,8 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     """The paper's printed closed form for ``detector`` at this mesh's ``n`` and ``m``, or ``None``.
 
     ``n`` is the papers' face count (they substitute ``f_n = n``, ``e_n = 6n``),
-    ``m`` the mean sides per face; ``None`` for ``reference`` (no paper).
+    ``m`` the mean sides per face; ``None`` for ``reference``, ``gaussmap`` and ``cones`` (their models
+    are silcount's own annotation, with no printed closed form).
     """
     from silcount.papers import formulas  # sympy: only when a formula is asked for
 

@@ -19,6 +19,15 @@ Decisions, named:
   all lights in one pass (:func:`silcount.detectors.detect_many`, identical
   to a run per light); with the ``fast`` engine the reported ``reference``
   run is that result and its ``time_s`` its share of the pass.
+* **Hierarchies** (``gaussmap``, ``cones``): their tree is built once per
+  mesh; its tally (``hierarchy.build``) is kept apart from the per-light
+  ``tallies``, which are the query's alone.  ``query_saving`` is the
+  reference's ``true`` total minus the detector's (summed over the lights in
+  the aggregate), ``break_even_lights`` the lights after which build plus
+  queries cost fewer ``true`` operations than the reference's queries
+  (``ceil(build / mean saving)``; null when a query saves nothing), and
+  ``edges_visited_fraction`` the edges whose faces the query evaluated, over
+  E (the mean over the lights in the aggregate).
 * **Cycles**: tallies weighted by a cycle profile (``paper``: the EESD
   paper's Mult 4, Add 2, Compare 3, Read 1, Write 2, EESD 2012 Sec. 6); see
   :mod:`silcount.audit.costs`.
@@ -37,7 +46,7 @@ import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many
+from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, variants_of
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -118,10 +127,10 @@ def _light_checks(mesh: Mesh, light: Light, ties: int, index: int) -> tuple[dict
 
 
 def _runs(settings: AuditSettings) -> list[tuple[str, str, str]]:
-    """(key, detector, variant) for every requested run; ``reference`` has one variant."""
+    """(key, detector, variant) for every requested run; ``reference``, ``gaussmap`` and ``cones`` have one variant."""
     out = []
     for name in settings.detectors:
-        for variant in ("intended",) if name == "reference" else settings.variants:
+        for variant in variants_of(name, settings.variants):
             out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
     return out
 
@@ -136,7 +145,7 @@ def _one_run(
     name: str,
     variant: str,
     settings: AuditSettings,
-    ref_ids: np.ndarray,
+    ref: Silhouette,
     profile: tuple[str, dict],
     given: tuple[Silhouette, float] | None = None,
 ) -> dict:
@@ -146,6 +155,7 @@ def _one_run(
         elapsed = time.perf_counter() - t0
     else:
         res, elapsed = given
+    ref_ids = ref.edge_ids
     # both are ascending distinct ids (Silhouette.edge_ids): no hashing or re-sorting
     missed = int(np.setdiff1d(ref_ids, res.edge_ids, assume_unique=True).size)
     extra = int(np.setdiff1d(res.edge_ids, ref_ids, assume_unique=True).size)
@@ -164,8 +174,38 @@ def _one_run(
         "time_s": elapsed if settings.with_time else None,
     }
     _with_ratios(out, profile, 1)
+    if "build" in res.notes:
+        out["hierarchy"] = _hierarchy(res, ref, profile[1])
     if settings.with_edges:
         out["edges"] = mesh.vertices[res.edges].tolist()
+    return out
+
+
+def _hierarchy(res: Silhouette, ref: Silhouette, weights: dict) -> dict:
+    """A hierarchy's build (kept apart from the query's tallies), its break-even and the edges it visited."""
+    n = res.notes
+    build = {k: int(v) for k, v in sorted((dict.fromkeys(KINDS, 0) | n["build"]).items(), key=_kind_order)}
+    return {
+        "leaf_size": int(n["leaf_size"]),
+        "fanout": int(n["fanout"]),
+        "tree_bytes": int(n["tree_bytes"]),
+        "build": build,
+        "build_steps": dict(sorted(n["build_steps"].items())),
+        "build_cycles": weighted(build, weights),
+        "edges_visited_fraction": float(n["edges_visited_fraction"]),
+        "query_saving": sum(ref.true_tally.values()) - sum(res.true_tally.values()),
+        "break_even_lights": n["break_even_lights"],
+    }
+
+
+def _aggregate_hierarchy(results: list[dict]) -> dict:
+    """The build once (one tree per mesh), the savings summed, the visited fraction averaged over the lights."""
+    out = dict(results[0]["hierarchy"])
+    saving = sum(r["hierarchy"]["query_saving"] for r in results)
+    total = sum(out["build"].values())
+    out["edges_visited_fraction"] = sum(r["hierarchy"]["edges_visited_fraction"] for r in results) / len(results)
+    out["query_saving"] = saving
+    out["break_even_lights"] = -(-total * len(results) // saving) if saving > 0 else None
     return out
 
 
@@ -203,6 +243,8 @@ def _aggregate(results: list[dict], with_time: bool) -> dict:
             agg["tallies"][model] = _add_counts(agg["tallies"].get(model, {}), t)
             agg["cycles"][model] = agg["cycles"].get(model, 0) + r["cycles"][model]
         agg["steps"] = dict(sorted(_add_counts(agg["steps"], r["steps"]).items()))
+    if "hierarchy" in first:
+        agg["hierarchy"] = _aggregate_hierarchy(results)
     return agg
 
 
@@ -248,7 +290,7 @@ def run_audit(
             results = {}
             for key, name, variant in runs:
                 given = (ref, ref_time) if reuse and name == "reference" else None
-                results[key] = _one_run(mesh, light, name, variant, settings, ref.edge_ids, profile, given)
+                results[key] = _one_run(mesh, light, name, variant, settings, ref, profile, given)
                 bar.set_postfix_str(f"light {i} {key}", refresh=False)
                 bar.update()
             per_light.append({"light": info, "detectors": results})

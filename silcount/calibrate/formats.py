@@ -18,7 +18,7 @@ import pandas as pd
 
 from silcount.atomic import atomic_path, write_text
 from silcount.calibrate.run import LARGE_FACES, Calibration
-from silcount.calibrate.timing import MODELS
+from silcount.calibrate.timing import LITERATURE, MODELS, TIMED
 
 SCHEMA = "silcount-calibrate/1"
 DIGITS = 4
@@ -54,6 +54,12 @@ def to_json(cal: Calibration) -> str:
         "summary_large": _records(cal.summary_large),
         "per_mesh": _records(cal.per_mesh),
         "fps": _records(cal.fps),
+        "literature": {
+            "detectors": sorted(set(cal.literature_samples["detector"]), key=TIMED.index),
+            "samples": len(cal.literature_samples),
+            "summary": _records(cal.literature),
+            "per_mesh": _records(cal.literature_meshes),
+        },
     }
     return json.dumps(doc, indent=2, sort_keys=False) + "\n"
 
@@ -93,8 +99,33 @@ def to_markdown(cal: Calibration) -> str:
         "",
         "detect_ms: the paper's printed closed form, paper cycles, at 2.8e9 cycles/s; frame_ms = 1000 / FPS.",
         "",
+        *_literature_lines(cal),
     ]
     return "\n".join(lines)
+
+
+def _literature_lines(cal: Calibration) -> list[str]:
+    """The literature's detectors, predicted with the papers' four's scales (not refitted)."""
+    head = ["## The literature's hierarchies (gaussmap, cones), predicted with the four's fit", ""]
+    if not len(cal.literature_samples):
+        return head + ["These timings do not time them: `silcount calibrate` (a live run) does.", ""]
+    return head + [
+        f"{len(cal.literature_samples)} samples (mesh x detector x light). Time: each light's query, the fast "
+        "engine's compiled traversal of the tree cached with the mesh (`hierarchy_query.query_fast`, one thread; "
+        "the tree is built before the clock starts), the ids sorted; tally: the query's (the build is apart). "
+        "Predicted = tally x profile x the scale fitted above on the papers' four algorithms (all meshes), "
+        "not refitted.",
+        "",
+        rounded(cal.literature).to_markdown(index=False),
+        "",
+        "r2: of log time with the four's scale (negative: worse than the detector's own mean); ratio: predicted / "
+        "measured (worst: farthest from 1).",
+        "",
+        "### Measured seconds per mesh (summed over the lights), every timed detector",
+        "",
+        rounded(cal.literature_meshes).to_markdown(index=False),
+        "",
+    ]
 
 
 def figure(cal: Calibration, model: str, path: Path) -> Path:
@@ -105,7 +136,10 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     colours = {"ta": "#1b6ca8", "vnv": "#d1495b", "eesd": "#2e933c", "hsd": "#edae49"}
-    pred = cal.predictions[cal.predictions["model"] == model]
+    colours |= {"gaussmap": "#7b3294", "cones": "#00a6a6"}  # predicted with the four's scale (not fitted)
+    lit = cal.literature_predictions
+    pred = pd.concat([cal.predictions, lit]) if len(lit) else cal.predictions
+    pred = pred[pred["model"] == model]
     profiles = list(dict.fromkeys(pred["profile"]))
     cols = 3
     rows = math.ceil(len(profiles) / cols)
@@ -116,7 +150,10 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
             sub = pred[pred["profile"] == prof]
             for det, colour in colours.items():
                 d = sub[sub["detector"] == det]
-                ax.scatter(d["seconds"], d["predicted"], s=12, color=colour, label=det)
+                if len(d):
+                    fitted = det not in LITERATURE
+                    ax.scatter(d["seconds"], d["predicted"], s=12, color=colour, marker="o" if fitted else "x",
+                               label=det if fitted else f"{det} (not fitted)")  # fmt: skip
             ax.plot([lo, hi], [lo, hi], color="#888888", lw=0.8)
             r2 = cal.summary[(cal.summary["model"] == model) & (cal.summary["profile"] == prof)]["r2"].iloc[0]
             ax.set(xscale="log", yscale="log", xlim=(lo, hi), ylim=(lo, hi), title=f"{prof}\nR^2 {r2:.3f}")
@@ -149,7 +186,8 @@ def write(cal: Calibration, out_dir: Path, with_timings: bool = False, figures: 
     if figures:
         paths += [figure(cal, model, out_dir / f"calibrate_{model}.png") for model in MODELS]
     if with_timings:
-        times = cal.samples[["mesh", "detector", "light", "seconds"]].copy()
+        every = pd.concat([cal.samples, cal.literature_samples]) if len(cal.literature_samples) else cal.samples
+        times = every[["mesh", "detector", "light", "seconds"]].copy()
         times.insert(0, "cpu_model", cal.cpu_model)
         paths.append(write_text(out_dir / "timings.csv", times.to_csv(index=False)))
     return paths

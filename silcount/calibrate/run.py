@@ -9,6 +9,9 @@ bytes on every run; a live ``silcount calibrate`` times afresh.
 
 Two fits are reported: over every sample, and over the meshes of at least
 :data:`LARGE_FACES` faces only (refitted), where the loops, not the set-up, take the time.
+Both are the papers' four algorithms' alone; the literature's detectors
+(:data:`~silcount.calibrate.timing.LITERATURE`), when the timings time them,
+are predicted with the first fit's scales and reported apart.
 """
 
 from __future__ import annotations
@@ -42,6 +45,10 @@ class Calibration:
     summary: pd.DataFrame
     summary_large: pd.DataFrame
     fps: pd.DataFrame
+    literature_samples: pd.DataFrame  # gaussmap and cones, when the timings have them (else no rows)
+    literature_predictions: pd.DataFrame  # their predictions with ``summary``'s scales
+    literature: pd.DataFrame  # per (model, profile, detector): predicted/measured ratios (predict.literature_summary)
+    literature_meshes: pd.DataFrame  # per mesh: measured seconds of every timed detector, summed over the lights
 
 
 def committed_timings() -> Path | None:
@@ -72,8 +79,13 @@ def calibrate(
 ) -> Calibration:
     """Predict ``times`` (one row per mesh, detector, light) from the tallies of ``meshes`` under every profile."""
     profiles = builtin_profiles() if profiles is None else profiles
-    samples = timing.samples(timing.tallies(meshes, n_lights, show), times)
+    lit = tuple(d for d in timing.LITERATURE if d in set(times["detector"]))
+    every = timing.samples(timing.tallies(meshes, n_lights, show, timing.ALGORITHMS + lit), times)
+    papers = every["detector"].isin(timing.ALGORITHMS)
+    samples = every[papers].reset_index(drop=True)
+    lit_samples = every[~papers].reset_index(drop=True)
     pred = predict.weighted(samples, profiles)
+    lit_pred = predict.weighted(lit_samples, profiles, predict.scales_of(pred)) if lit else pred.iloc[:0]
     meshes_table = predict.per_mesh(pred)
     large = samples[samples["faces"] >= LARGE_FACES]
     if len(large):
@@ -90,7 +102,27 @@ def calibrate(
         predict.summary(pred, meshes_table),
         summary_large,
         fps.fps_table(),
+        lit_samples,
+        lit_pred,
+        predict.literature_summary(lit_pred),
+        measured_per_mesh(every) if lit else every.iloc[:0, :0],
     )
+
+
+def measured_per_mesh(samples: pd.DataFrame) -> pd.DataFrame:
+    """One row per mesh: faces, then each detector's measured seconds summed over the lights, and their order."""
+    sums = samples.groupby(["mesh", "detector"], sort=False)["seconds"].sum().unstack("detector")
+    sums = sums.reindex(samples["mesh"].unique())  # unstack sorts by name: back to the samples' order (by size)
+    dets = [d for d in timing.TIMED if d in sums.columns]
+    faces = samples.drop_duplicates("mesh").set_index("mesh")["faces"]
+    out = sums[dets].rename(columns=lambda d: f"{d}_s")
+    out.insert(0, "faces", faces.loc[out.index].astype(int))
+
+    def order(row: pd.Series) -> str:
+        return " < ".join(sorted(dets, key=lambda d: float(row[f"{d}_s"])))
+
+    out["measured_order"] = [order(row) for _, row in out.iterrows()]
+    return out.reset_index()
 
 
 def from_committed(corpus: Path | None = None, show: bool | None = False) -> Calibration:

@@ -8,7 +8,12 @@ tally of the same run is the ``fast`` engine's ``intended`` tally for the same
 mesh and light, under both cost models (``paper`` and ``true``).
 
 The algorithms are the papers' four (TA, VnV, HSD, EESD); the ``reference``
-rule is not one of them (its plain form is numpy, not a loop).  Lights: ``LIGHTS``
+rule is not one of them (its plain form is numpy, not a loop).  Beside them,
+:data:`LITERATURE` (``gaussmap``, ``cones``): their time is their per-light
+query, the fast engine's compiled traversal on the tree cached with the mesh,
+on one numba thread (:data:`silcount.detectors.plain.QUERIED`; the warm-up
+call builds the tree, so the build is not timed, as HSD's merge is not), and
+their tally is the query's alone (the build's is ``notes['build']``).  Lights: ``LIGHTS``
 point lights uniformly on the sphere of 3 bounding radii about the mesh centre,
 seed 0 (the recipe of ``silcount audit``).
 """
@@ -22,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from silcount.counting.cycles import TRUE_KINDS
-from silcount.detectors import detect
+from silcount.detectors import LITERATURE, detect
 from silcount.detectors.plain import plain_edge_ids
 from silcount.errors import BadArgument, UnreadableInput
 from silcount.mesh.lights import PointLight
@@ -31,6 +36,7 @@ from silcount.mesh.shapes import builtin_mesh
 from silcount.progress import progress
 
 ALGORITHMS = ("ta", "vnv", "hsd", "eesd")
+TIMED = ALGORITHMS + LITERATURE  # what a live run times; the fit is the ALGORITHMS' alone (silcount.calibrate.run)
 SERIES = tuple(f"icosphere{k}" for k in range(5))
 LIGHTS = 4
 MODELS = ("paper", "true")
@@ -74,12 +80,17 @@ def _best(fn, repeats: int) -> float:
     return float(best)
 
 
-def tallies(meshes: list[tuple[str, Mesh]], n_lights: int = LIGHTS, show: bool | None = False) -> pd.DataFrame:
+def tallies(
+    meshes: list[tuple[str, Mesh]],
+    n_lights: int = LIGHTS,
+    show: bool | None = False,
+    detectors: tuple[str, ...] = ALGORITHMS,
+) -> pd.DataFrame:
     """One row per (mesh, detector, light): sizes and the ``paper_<kind>`` / ``true_<kind>`` counts."""
     rows = []
-    bar = progress(len(meshes) * len(ALGORITHMS), "tallies", show)
+    bar = progress(len(meshes) * len(detectors), "tallies", show)
     for group, mesh in meshes:
-        for det in ALGORITHMS:
+        for det in detectors:
             for i, light in enumerate(lights(mesh, n_lights)):
                 res = detect(mesh, light, det, variant="intended", engine="fast")
                 row = {"group": group, "mesh": mesh.name, "faces": mesh.n_faces, "edges": mesh.n_edges}
@@ -96,13 +107,17 @@ def tallies(meshes: list[tuple[str, Mesh]], n_lights: int = LIGHTS, show: bool |
 
 
 def timings(
-    meshes: list[tuple[str, Mesh]], n_lights: int = LIGHTS, repeats: int = 3, show: bool | None = False
+    meshes: list[tuple[str, Mesh]],
+    n_lights: int = LIGHTS,
+    repeats: int = 3,
+    show: bool | None = False,
+    detectors: tuple[str, ...] = TIMED,
 ) -> pd.DataFrame:
     """One row per (mesh, detector, light): ``seconds``, the best of ``repeats`` plain runs."""
     rows = []
-    bar = progress(len(meshes) * len(ALGORITHMS), "timing", show)
+    bar = progress(len(meshes) * len(detectors), "timing", show)
     for _, mesh in meshes:
-        for det in ALGORITHMS:
+        for det in detectors:
             for i, light in enumerate(lights(mesh, n_lights)):
                 seconds = _best(lambda m=mesh, li=light, d=det: plain_edge_ids(m, li, d), repeats)
                 rows.append({"mesh": mesh.name, "detector": det, "light": i, "seconds": seconds})

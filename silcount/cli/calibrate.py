@@ -4,7 +4,8 @@
   compiled uncounted loops per light on the icosphere series (and every mesh
   file under ``--corpus`` of at most ``--max-faces`` faces), predicts each time as tally x profile with one
   scale per (cost model, profile), and writes the tables (md, csv, json), the
-  figures and the raw ``timings.csv`` under ``DIR``;
+  figures and the raw ``timings.csv`` under ``DIR``; ``gaussmap`` and ``cones`` are timed too (their
+  compiled query on the cached tree) and predicted with the papers' four's scales, reported apart;
 * ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh (on the
   meshes it times, with its number of lights);
 * ``--measure`` runs the micro-benchmarks instead and writes

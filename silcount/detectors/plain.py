@@ -19,23 +19,37 @@ Sec. VII, EESD paper Sec. 6; ``scripts/bench_render.py``).
   tested against every face (fan triangles, Moller-Trumbore); the edge is
   kept iff no face is hit (EESD paper Sec. 3.3).
 
+``gaussmap`` and ``cones`` (:data:`QUERIED`, not in :data:`PLAIN`, the set
+the corpus study times) have no loops of their own here: theirs is the fast
+engine's compiled query, :func:`.hierarchy_query.query_fast`, on the tree
+built once per mesh and cached with it (built by the first call, as HSD's
+merge is), on one numba thread like every loop here, its output sorted.
+That kernel also increments its step counters (one integer add per step;
+nothing else of the tally is computed).
+
 Each returns the ascending edge ids that :func:`silcount.detect` returns for
 the same detector (tested in ``tests/test_plain.py``).
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numba import njit
 
+from silcount.detectors import cones, gaussmap
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.detectors.eesd import outward_points_and_rays
+from silcount.detectors.hierarchy import Hierarchy, KeyScheme
+from silcount.detectors.hierarchy_query import query_fast, tree_for
 from silcount.mesh.coplanar import merge
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import _moller_trumbore
 
 PLAIN = ("reference", "ta", "vnv", "hsd", "eesd")
+SCHEMES: dict[str, KeyScheme] = {"gaussmap": gaussmap.SCHEME, "cones": cones.SCHEME}
+QUERIED = tuple(SCHEMES)  # timed by their compiled query on the cached tree
 
 
 @njit(cache=True)
@@ -153,6 +167,15 @@ def _ids_of_keys(mesh: Mesh, keys: np.ndarray) -> np.ndarray:
 def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
     """Run detector ``name``'s own loops (``intended`` variant) without counting; ascending edge ids."""
     V = mesh.n_vertices
+    if name in SCHEMES:
+        tree = tree_of(mesh, name)
+        threads = numba.get_num_threads()
+        numba.set_num_threads(1)  # one thread, as every loop here runs (the query may be a parallel kernel)
+        try:
+            ids = query_fast(mesh, tree, light)[0]
+        finally:
+            numba.set_num_threads(threads)
+        return np.sort(ids)
     if name == "reference":
         return silhouette_edge_ids(mesh, light)
     if name == "ta":
@@ -180,4 +203,9 @@ def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
             mesh.face_start,
             mesh.corners,
         )
-    raise ValueError(f"no plain kernel for {name!r}; choose from {', '.join(PLAIN)}")
+    raise ValueError(f"no plain kernel for {name!r}; choose from {', '.join(PLAIN + QUERIED)}")
+
+
+def tree_of(mesh: Mesh, name: str) -> Hierarchy:
+    """The default tree of ``gaussmap`` or ``cones`` for ``mesh``: the one their ``detect`` caches (built if absent)."""
+    return tree_for(mesh, SCHEMES[name])

@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 from silcount.atomic import write_text  # noqa: E402
 from silcount.counting.cycles import builtin_profiles  # noqa: E402
-from silcount.detectors import DETECTORS  # noqa: E402
+from silcount.detectors import DETECTORS, LABELS, LITERATURE  # noqa: E402
 from silcount.papers import formulas as F  # noqa: E402
 from silcount.papers import growth as sweep  # noqa: E402
 from silcount.plots import STYLE, save_figure  # noqa: E402
@@ -33,7 +33,8 @@ from silcount.plots import STYLE, save_figure  # noqa: E402
 POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
 ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
 KINDS = (("mul", "Mult"), ("add", "Add"), ("cmp", "Compare"), ("read", "Read"), ("write", "Write"))
-COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555"}
+COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555",
+           "Gauss map": "#7b3294", "normal cones": "#00a6a6"}  # fmt: skip
 
 
 def _value(model: str, which: str, point: dict) -> dict[str, float]:
@@ -107,11 +108,15 @@ def cycles(out_dir: Path) -> list[Path]:
     return save_figure(fig, out_dir, "cycles")
 
 
+def _line(det: str) -> str:
+    """HSD dashed (it overlays TA), the literature's hierarchies dash-dotted, the others solid."""
+    return "--" if det == "hsd" else "-." if det in LITERATURE else "-"
+
+
 def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
     """Measured total operations vs faces (icosphere sweep), log-log, with fitted exponents."""
     runs = sweep.sweep(with_real=False) if runs is None else runs
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
-    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
     for ax, model in zip(axes, ("paper", "true")):
         faces_all = []
         for det in DETECTORS:
@@ -129,9 +134,9 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
                 faces,
                 totals,
                 marker="o",
-                color=COLOURS[label_of[det]],
-                label=f"{label_of[det]}: F^{b:.2f}" + (" (= TA)" if det == "hsd" else ""),
-                linestyle="--" if det == "hsd" else "-",
+                color=COLOURS[LABELS[det]],
+                label=f"{LABELS[det]}: F^{b:.2f}" + (" (= TA)" if det == "hsd" else ""),
+                linestyle=_line(det),
             )
         f = np.array(sorted(set(faces_all)), dtype=float)
         if f.size:
@@ -140,11 +145,12 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
         ax.set_yscale("log")
         ax.set_xlabel("faces F (icosphere0 to icosphere4)")
         ax.set_title(f"'{model}' cost model")
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=2)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.17), ncols=2)  # below the axis label
     axes[0].set_ylabel("operations per silhouette query (all kinds)")
     fig.suptitle(
         "Measured growth of operation counts (fast engine, one point light); legend: fitted exponent\n"
-        "HSD equals TA here: icospheres have no coplanar neighbours to merge"
+        "HSD equals TA here: icospheres have no coplanar neighbours to merge\n"
+        "Gauss map and normal cones: the query, without the tree's build"
     )
     fig.tight_layout()
     return save_figure(fig, out_dir, "growth")
@@ -155,7 +161,6 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
     runs = sweep.sweep(with_real=False) if runs is None else runs
     kinds = [k for k, _ in KINDS]
     fig, axes = plt.subplots(2, len(kinds), figsize=(15, 6.5), sharex=True)
-    label_of = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
     exps = sweep.exponents(runs)
     for row, model in enumerate(("paper", "true")):
         for col, (kind, kind_label) in enumerate(KINDS):
@@ -173,9 +178,9 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
                     *zip(*pts),
                     marker="o",
                     markersize=3,
-                    color=COLOURS[label_of[det]],
-                    linestyle="--" if det == "hsd" else "-",
-                    label=f"{label_of[det]} {b:.2f}",
+                    color=COLOURS[LABELS[det]],
+                    linestyle=_line(det),
+                    label=f"{LABELS[det]} {b:.2f}",
                 )
             ax.set_xscale("log")
             ax.set_yscale("log")
@@ -201,7 +206,8 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
         "# Measured growth: fitted exponent b in count ~ F^b",
         "",
         "Fast engine, the detectors' measured variants (`silcount.papers.growth.MEASURED_VARIANT`), one point light, "
-        f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count.",
+        f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count. "
+        "gaussmap and cones: the query's counts, without the tree's build (their `notes['build']`).",
         "",
         "| detector | cost model | " + " | ".join(label for _, label in KINDS) + " |",
         "|---|---|" + "---:|" * len(KINDS),

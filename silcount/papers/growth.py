@@ -33,8 +33,9 @@ from silcount.mesh.shapes import builtin_mesh
 
 SWEEP_MESHES = tuple(f"icosphere{k}" for k in range(0, 5))
 REAL_MESHES = ("cow.obj", "fandisk.obj", "bunny.ply", "teapot.obj")
-# The variant whose loops are the printed pseudo-code's (see each detector's docstring).
-MEASURED_VARIANT = {"reference": "intended", "ta": "intended", "vnv": "literal", "hsd": "intended", "eesd": "literal"}
+# The variant whose loops are the printed pseudo-code's (see each detector's docstring); gaussmap and cones have one.
+MEASURED_VARIANT = {"reference": "intended", "ta": "intended", "vnv": "literal", "hsd": "intended", "eesd": "literal",
+                    "gaussmap": "intended", "cones": "intended"}  # fmt: skip
 
 
 def standard_light(mesh: Mesh) -> PointLight:
