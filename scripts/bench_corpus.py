@@ -2,7 +2,8 @@
 
 Settings of issue 13: every file of the corpus (``SILCOUNT_CORPUS_DIR``, else
 ``../shared/corpus`` beside the repository, else the folder given), 64
-directional lights, the five detectors (``intended``) on the ``fast`` engine,
+directional lights, every detector (``intended``; seven since gaussmap and cones joined, the
+README's issue-13 figures were taken with the first five) on the ``fast`` engine,
 Dask's local ``processes`` scheduler, no cache, no timing of the plain loops
 (``--with-time`` adds it).  Each configuration runs in a fresh Python process
 so that ``getrusage(RUSAGE_CHILDREN).ru_maxrss`` is the peak resident memory

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from silcount.detectors import DETECTORS, LITERATURE
 from silcount.detectors.adjacency import silhouette_edge_ids
 from silcount.mesh.lights import DirectionalLight, PointLight
 from silcount.mesh.model import from_polygons
@@ -132,12 +133,13 @@ def test_sweep_tables_and_schema(folder):
     ]
     m = result.meshes
     assert list(zip(m["file"], m["level"])) == [(f, lv) for f in sorted(set(m["file"])) for lv in (0, 1)]
-    assert result.failed == 0 and len(result.rows) == 8 * 3 * 5
+    assert result.failed == 0 and len(result.rows) == 8 * 3 * len(DETECTORS) and len(DETECTORS) == 7
     cube = m[(m["file"] == "quad_cube.obj")].set_index("level")
     assert cube.loc[0, "faces"] == 6 and cube.loc[1, "faces"] == 24 and cube.loc[1, "coplanar_polygons"] == 6
     assert (cube["silhouette_edges_mean"].iloc[1] == 2 * cube["silhouette_edges_mean"].iloc[0]).all()
     assert (result.rows["missed_edges"] == 0).all() and (result.rows["extra_edges"] == 0).all()
     assert {"silhouette_edges", "silhouette_edges:closed", "silhouette_edges:level0", "ta:true"} <= set(result.fits)
+    assert {"gaussmap:true", "cones:paper", "cones:directional:edge_test~s_log2F"} <= set(result.fits)
     jsonschema.validate(result.document, json.loads(SCHEMA.read_text()))
 
 
@@ -206,7 +208,9 @@ def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
     } <= names
     import pandas as pd
 
-    assert len(pd.read_parquet(out / "corpus.parquet")) == 4 * 2 * 5
+    assert len(pd.read_parquet(out / "corpus.parquet")) == 4 * 2 * len(DETECTORS)
+    assert {"literature.md", "literature.png", "literature.svg", "output_sensitivity.png"} <= names
+    assert "(literature.md)" in (out / "summary.md").read_text()
     first = (out / "silhouette.svg").read_bytes()
     (folder / "broken.obj").write_text("f 1 2 3\n")
     assert main([*args, "--format", "json", "--quiet"]) == 1  # a mesh failed
@@ -224,3 +228,119 @@ def test_report_skips_without_a_corpus(monkeypatch, tmp_path, capsys):
     monkeypatch.setattr(cli, "corpus_dir", lambda: None)
     assert cli.report(tmp_path) == []
     assert "skipped" in capsys.readouterr().out
+
+
+# ---- the literature's detectors beside the papers' -------------------------------------------
+def test_hierarchies_are_one_run_each_with_steps_build_and_edges_visited(folder):
+    from silcount.detectors import detect
+    from silcount.mesh.io import load_mesh
+
+    result = corpus([folder], cache=False, variant="both", **SMALL)
+    runs = [key for key, _, _ in result.settings.runs()]
+    assert [r for r in runs if r.split(":")[0] in LITERATURE] == list(LITERATURE)  # one variant, as reference
+    assert {"ta:literal", "hsd:literal", "eesd:literal"} <= set(runs) and "reference:literal" not in runs
+    rows = result.rows
+    for det in LITERATURE:
+        r = rows[rows["detector"] == det]
+        assert len(r) == 4 * 3 and (r["variant"] == "intended").all()
+        assert (r["silhouette_edges"] == r["reference_edges"]).all()  # exactly the reference's answer
+        assert (r["missed_edges"] == 0).all() and (r["extra_edges"] == 0).all()
+        assert (r["edges_visited"] == r["steps_edge_test"]).all() and (r["steps_add"] == r["silhouette_edges"]).all()
+        assert ((r["edges_visited_fraction"] >= 0) & (r["edges_visited_fraction"] <= 1)).all()
+        assert (r["edges_visited_fraction"] > 0).any()
+    ref = rows[rows["detector"] == "reference"]
+    assert (ref["edges_visited_fraction"] == 1.0).all() and ref["steps_node_test"].isna().all()
+    ta = rows[rows["detector"] == "ta"]
+    assert (ta["edges_visited"] == ta["steps_search_S"]).all()  # the sides of the lit faces it looks up in S
+    m = result.meshes.set_index("file")
+    mesh = load_mesh(folder / "icosphere1.obj")
+    for det in LITERATURE:
+        notes = detect(mesh, DirectionalLight((0.3, 0.5, 0.8)), det).notes
+        assert m.loc["icosphere1.obj", f"{det}:build_total"] == sum(notes["build"].values()) > 0
+        assert m.loc["icosphere1.obj", f"{det}:tree_bytes"] == notes["tree_bytes"]
+    assert (m["hsd:build_total"] > 0).all()  # HSD's coplanar merge, its per-mesh preprocessing
+    doc = {d["file"]: d for d in result.document["meshes"]}["icosphere1.obj"]["detectors"]
+    assert doc["gaussmap"]["build"]["total"] == sum(v for k, v in doc["gaussmap"]["build"].items() if k != "total")
+    assert doc["cones"]["steps"]["edge_test"] == doc["cones"]["edges_visited"] > 0
+    assert "build" not in doc["ta"] and doc["ta"]["edges_visited_fraction"] > 0
+    import jsonschema
+
+    jsonschema.validate(result.document, json.loads(SCHEMA.read_text()))
+
+
+def test_output_sensitivity_fits_are_power_fits_of_edges_tested(folder):
+    result = corpus([folder], cache=False, **SMALL)
+    m = result.meshes
+    for det in LITERATURE:
+        x = {
+            "s": m["silhouette_edges_mean"],
+            "F": m["faces"],
+            "s_log2F": m["silhouette_edges_mean"] * np.log2(m["faces"]),
+        }
+        for key, against in (("s", "s"), ("F", "F"), ("s_log2F", "s log2 F")):
+            fit = result.fits[f"{det}:directional:edge_test~{key}"]
+            want = power_fit(x[key], m[f"{det}:steps_edge_test"])
+            assert fit["against"] == against and fit["meshes"] == want["meshes"] == 4
+            assert fit["alpha"] == pytest.approx(want["alpha"], rel=1e-12) and fit["alpha_ci"] == want["alpha_ci"]
+    assert result.fits["ta:true"]["against"] == "F"
+
+
+def test_the_literature_page_counts_what_the_tables_say(folder, tmp_path):
+    from silcount.study.output import write_out
+
+    result = corpus([folder], cache=False, **SMALL)
+    write_out(result, tmp_path / "out", with_rows=False)
+    text = (tmp_path / "out" / "literature.md").read_text()
+    assert "| TA | VnV | HSD | EESD | reference | Gauss map | normal cones |" in text
+    assert "| 1-9 | directional | 2 | true operations per light |" in text  # tetrahedron 4, quad_cube 6 faces
+    m = result.meshes.set_index("file")
+    wins = int((m["hsd:true_total"] < m["ta:true_total"]).sum())
+    assert f"HSD below TA: in true operations per light on {wins} of 4 meshes" in text
+    papers = m[[f"{d}:true_total" for d in ("ta", "vnv", "hsd", "eesd")]].min(axis=1)
+    others = m[[f"{d}:true_total" for d in ("reference", "gaussmap", "cones")]].min(axis=1)
+    assert f"below the lowest of reference, Gauss map and normal cones on {int((papers < others).sum())} of 4" in text
+    assert "Times: not measured in this sweep" in text and "| time per light |" not in text
+
+
+def test_findings_name_a_paper_detector_that_beats_the_others():
+    import pandas as pd
+
+    from silcount.study.literature import band_of, findings
+
+    recs = []
+    for file, faces, ops in (("a.obj", 1000, {"ta": 10.0, "reference": 20.0}), ("b.obj", 50, {"ta": 99.0})):
+        for det in ("ta", "vnv", "hsd", "eesd", "reference", "gaussmap", "cones"):
+            recs.append({"file": file, "level": 0, "light_kind": "directional", "detector": det, "faces": faces,
+                         "true_ops": ops.get(det, 50.0), "time_s": None, "visited_fraction": 1.0, "s": 5.0,
+                         "edge_test": 7.0, "build_total": None})  # fmt: skip
+    lines = findings(pd.DataFrame(recs), {}, timed=False)
+    best = next(line for line in lines if line.startswith("True operations per light"))
+    assert "on 1 of 2 meshes: a.obj (TA, 1,000 faces)" in best
+    assert any(line.startswith("Fewest true operations per light: TA on 1, ") for line in lines)
+    assert (band_of(1), band_of(999), band_of(1000), band_of(86482)) == ("1-9", "100-999", "1,000-9,999",
+                                                                         "10,000-99,999")  # fmt: skip
+
+
+def test_a_timed_sweep_times_the_hierarchies_per_light_kind_and_the_cache_blanks_it(tmp_path):
+    import jsonschema
+
+    from silcount.study.output import write_out
+
+    one = tmp_path / "one"
+    one.mkdir()
+    shutil.copy(DATA / "icosphere1.obj", one / "icosphere1.obj")
+    cache = tmp_path / "cache"
+    args = dict(lights=2, light_kind="both", quiet=True, scheduler="threads", workers=1)
+    timed = corpus([one], cache=cache, timing=True, **args)
+    doc = timed.document["meshes"][0]
+    by_kind = doc["time_by_light_kind"]
+    assert set(by_kind) == {"directional", "point"} and doc["time_per_light_s"] == by_kind["directional"]
+    assert all(by_kind[k][d] > 0 for k in by_kind for d in DETECTORS)
+    jsonschema.validate(timed.document, json.loads(SCHEMA.read_text()))
+    write_out(timed, tmp_path / "out", with_rows=False)
+    text = (tmp_path / "out" / "literature.md").read_text()
+    assert "| 10-99 | point | 1 | time per light |" in text and "Times: not measured" not in text
+    untimed = corpus([one], cache=cache, timing=False, **args)  # read back from the cache, times blanked
+    assert untimed.document == corpus([one], cache=False, timing=False, **args).document
+    blank = untimed.document["meshes"][0]["time_by_light_kind"]
+    assert set(blank) == {"directional", "point"} and all(v is None for k in blank for v in blank[k].values())

@@ -105,6 +105,6 @@ def test_a_real_cluster_gives_the_in_process_results(cluster, tmp_path):
     there = corpus([folder], scheduler=cluster, **SETTINGS)
     assert there.document == here.document
     assert there.rows.equals(here.rows) and there.meshes.equals(here.meshes)
-    assert here.failed == 2 and len(here.rows) == 4 * 2 * 2 * 5  # broken.off at both levels
+    assert here.failed == 2 and len(here.rows) == 4 * 2 * 2 * 7  # broken.off at both levels; seven detectors
     local = corpus([folder], scheduler="processes", workers=2, **SETTINGS)
     assert local.document == here.document

@@ -21,7 +21,7 @@ from pathlib import Path
 HELP = "sweep a collection of meshes (files or folders): silhouette size and every detector's cost against faces"
 CORPUS_ENV = "SILCOUNT_CORPUS_DIR"
 REPORT_LEVELS = (0,)  # each subdivision level quadruples the faces, and about the time, of the sweep
-DETECTOR_NAMES = "reference,ta,vnv,hsd,eesd"
+DETECTOR_NAMES = "reference,ta,vnv,hsd,eesd,gaussmap,cones"
 
 
 def _levels(text: str) -> list[int]:
@@ -125,10 +125,14 @@ def corpus_dir() -> Path | None:
 def report(out_dir: Path) -> list[Path]:
     """The corpus section of `silcount report` under ``out_dir/corpus/``, or nothing (saying so) without a corpus.
 
-    Settings: 64 directional lights of seed 0, the five detectors (``intended``),
-    subdivision levels :data:`REPORT_LEVELS`, no wall times (byte-identical
-    reruns), the default cache (a timed ``silcount corpus`` run with the same
-    settings fills it), no ``corpus.parquet``.
+    Settings: 64 directional lights of seed 0, every detector (``intended``: the
+    papers' four, ``reference``, ``gaussmap`` and ``cones``), subdivision levels
+    :data:`REPORT_LEVELS`, no wall times (byte-identical reruns), the default
+    cache (a timed ``silcount corpus`` run with the same settings fills it), no
+    ``corpus.parquet``.  ``literature.md`` (linked from ``summary.md``) sets the
+    papers' detectors beside the literature's; without wall times its time
+    rows are ``-``, and with directional lights only it has no point-light rows
+    (``silcount corpus --light-kind both --out DIR`` gives both, timed).
     """
     from silcount.study import corpus
     from silcount.study.output import write_out

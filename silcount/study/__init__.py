@@ -13,7 +13,8 @@ laws to silcount's measurements.
 
 Modules: :mod:`.work` (one file at one level, on a worker), :mod:`.subdivide`,
 :mod:`.schedule` (Dask), :mod:`.cache`, :mod:`.tables`, :mod:`.fits`,
-:mod:`.figures`, :mod:`.output` (``--out DIR``).
+:mod:`.figures`, :mod:`.output` (``--out DIR``), :mod:`.literature` and
+:mod:`.literature_page` (the papers' detectors beside ``gaussmap`` and ``cones``).
 """
 
 from __future__ import annotations
@@ -139,7 +140,7 @@ def corpus(
     labels = [it.label for it in items]
     rows = rows_frame(labels, results)
     meshes = meshes_frame(labels, results, rows, settings)
-    fit = fits(meshes, settings)
+    fit = fits(meshes, settings, rows)
     return CorpusResult(rows, meshes, fit, document(meshes, rows, fit, settings, levels), settings)
 
 

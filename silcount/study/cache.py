@@ -107,6 +107,8 @@ class Cache:
             return entry if timing == timing_of(settings) else None
         mesh = entry.get("mesh", {})
         mesh["time_per_light_s"] = {d: None for d in mesh.get("time_per_light_s", {})}
+        by_kind = mesh.get("time_by_light_kind", {})
+        mesh["time_by_light_kind"] = {kind: {d: None for d in times} for kind, times in by_kind.items()}
         mesh["time_errors"] = []
         return entry
 

@@ -11,6 +11,13 @@
   measured saving over TA, ``1 - HSD/TA`` of the total operations per light
   (both ``intended``), per cost model: the "buildings" claim (HSD 2011 Sec. VII:
   coplanar faces are where HSD should pay).
+* ``literature``: ``true`` operations per light against faces, log-log, for
+  the papers' four detectors, ``reference``, ``gaussmap`` and ``cones``
+  (``intended``), one panel per light kind, each with its fit over the
+  panel's meshes (:mod:`silcount.study.literature`).
+* ``output_sensitivity``: the hierarchies' edges tested per light against
+  ``s log2 F`` (``s`` the silhouette), with the fits of
+  :func:`silcount.study.literature.output_fits` and the line ``y = x``.
 """
 
 from __future__ import annotations
@@ -19,20 +26,34 @@ from pathlib import Path
 
 import numpy as np
 
+from silcount.detectors import LABELS, LITERATURE
 from silcount.plots import STYLE, save_figure
+from silcount.study.fits import power_fit
+from silcount.study.literature import AGAINST, ORDER, PAPERS, size_of
 
 KIND_COLOURS = {"closed": "#1b6ca8", "open": "#d1495b", "flat": "#2e933c"}
 LEVEL_MARKERS = ("o", "s", "^", "D", "v")
+DETECTOR_STYLE = {  # colour, marker: the papers' circles, the yardsticks' other shapes
+    "ta": ("#1b6ca8", "o"),
+    "vnv": ("#d1495b", "o"),
+    "hsd": ("#edae49", "o"),
+    "eesd": ("#2e933c", "o"),
+    "reference": ("#555555", "s"),
+    "gaussmap": ("#7b4ea3", "^"),
+    "cones": ("#e07a1f", "v"),
+}
 RUN_COLOURS = ("#555555", "#1b6ca8", "#d1495b", "#edae49", "#2e933c", "#7b4ea3", "#e07a1f", "#3aa5a5", "#a0522d")
 
 
 def _line(ax, fit: dict | None, xs: np.ndarray, label: str, **kw) -> None:
     if fit and fit.get("alpha") is not None:
         lo, hi = fit["alpha_ci"] or (float("nan"), float("nan"))
+        x = fit.get("against", "F")
+        x = x if x in ("F", "s") else f"({x})"
         ax.plot(
             xs,
             fit["c"] * xs ** fit["alpha"],
-            label=f"{label}: {fit['c']:.3g} F^{fit['alpha']:.3f} [{lo:.3f}, {hi:.3f}], {fit['meshes']} meshes",
+            label=f"{label}: {fit['c']:.3g} {x}^{fit['alpha']:.3f} [{lo:.3f}, {hi:.3f}], {fit['meshes']} meshes",
             **kw,
         )
 
@@ -117,8 +138,77 @@ def hsd_merge(meshes, out_dir: Path) -> list[Path]:
     return save_figure(fig, out_dir, "hsd_merge")
 
 
-def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Path]:
-    """Every figure under ``out_dir``; ``hsd_merge`` only when both TA and HSD (intended) ran."""
+def _span(values) -> np.ndarray:
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    return np.geomspace(max(float(v.min()) / 2, 1.0), float(v.max()) * 2, 50) if v.size else np.array([])
+
+
+def literature(frame, out_dir: Path) -> list[Path]:
+    """``true`` operations per light against F, the seven detectors, one panel per light kind (``frame``:
+    :func:`silcount.study.literature.kind_frame`)."""
+    import matplotlib.pyplot as plt
+
+    kinds = sorted(set(frame["light_kind"])) or ["directional"]
+    fig, axes = plt.subplots(1, len(kinds), figsize=(8.5 * len(kinds), 6), squeeze=False, sharey=True)
+    xs = _span(frame["faces"])
+    for ax, kind in zip(axes[0], kinds):
+        for det in ORDER:
+            part = frame[(frame["detector"] == det) & (frame["light_kind"] == kind)]
+            if part.empty:
+                continue
+            colour, marker = DETECTOR_STYLE[det]
+            ax.scatter(part["faces"], part["true_ops"], s=14, c=colour, marker=marker, alpha=0.65)
+            fit = power_fit(part["faces"], part["true_ops"], f"every mesh, {kind} lights")
+            if fit["alpha"] is not None:
+                _line(ax, fit, xs, LABELS[det], c=colour, ls="-" if det in PAPERS else "--")
+            else:
+                ax.scatter([], [], c=colour, marker=marker, label=LABELS[det])
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("faces F")
+        ax.set_ylabel("true operations per light (mean over the lights)")
+        ax.set_title(f"The papers' detectors beside the literature's: {kind} lights")
+        ax.legend(fontsize=7, loc="upper left")
+    return save_figure(fig, out_dir, "literature")
+
+
+def output_sensitivity(frame, fits: dict, out_dir: Path) -> list[Path]:
+    """The hierarchies' edges tested per light against ``s log2 F``, with their fits and ``y = x``."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8.5, 6))
+    part = frame[frame["detector"].isin(LITERATURE)]
+    xs = _span(size_of(part, AGAINST["s_log2F"])) if len(part) else np.array([])
+    for det in LITERATURE:
+        for kind, filled in (("directional", True), ("point", False)):
+            one = part[(part["detector"] == det) & (part["light_kind"] == kind)]
+            if one.empty:
+                continue
+            colour, marker = DETECTOR_STYLE[det]
+            face = colour if filled else "none"
+            ax.scatter(size_of(one, AGAINST["s_log2F"]), one["edge_test"], s=16, marker=marker, facecolors=face,
+                       edgecolors=colour, alpha=0.7)  # fmt: skip
+            fit = fits.get(f"{det}:{kind}:edge_test~s_log2F")
+            label = f"{LABELS[det]}, {kind}"
+            if fit and fit.get("alpha") is not None and xs.size:
+                _line(ax, fit, xs, label, c=colour, ls="-" if filled else ":")
+            else:
+                ax.scatter([], [], marker=marker, facecolors=face, edgecolors=colour, label=label)
+    if xs.size:
+        ax.plot(xs, xs, c="#999999", lw=0.8, ls="--", label="y = x (for scale)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("s log2 F (s: silhouette edges, mean over the lights)")
+    ax.set_ylabel("edges tested per light (mean over the lights)")
+    ax.set_title("Output sensitivity of the hierarchies: edges tested against s log2 F")
+    ax.legend(fontsize=7, loc="upper left")
+    return save_figure(fig, out_dir, "output_sensitivity")
+
+
+def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path, frame=None) -> list[Path]:
+    """Every figure under ``out_dir``; ``hsd_merge`` only when both TA and HSD (intended) ran; ``literature``
+    and ``output_sensitivity`` only with ``frame`` (:func:`silcount.study.literature.kind_frame`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -128,4 +218,8 @@ def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path) -> list[Pa
         paths = silhouette(meshes, fits, out_dir) + operations(meshes, fits, runs, out_dir)
         if "ta" in runs and "hsd" in runs:
             paths += hsd_merge(meshes, out_dir)
+        if frame is not None:
+            paths += literature(frame, out_dir)
+            if frame["detector"].isin(LITERATURE).any():
+                paths += output_sensitivity(frame, fits, out_dir)
     return paths

@@ -1,4 +1,5 @@
-"""Power-law fits ``y ~ c F^alpha`` over meshes, with a bootstrap interval for the exponent.
+"""Power-law fits ``y ~ c F^alpha`` (or ``c x^alpha`` for another size ``x``) over meshes, with a bootstrap
+interval for the exponent.
 
 The fit is ordinary least squares of ``log y`` on ``log F`` (McGuire,
 "Observations on silhouette sizes", JGT 2004, fits the same form and reports
@@ -9,7 +10,9 @@ The fit is ordinary least squares of ``log y`` on ``log F`` (McGuire,
 same interval); resamples whose ``F`` are all equal have no slope and are
 skipped.  Meshes with ``y <= 0`` (no silhouette, no operation) cannot be on a
 log scale and are left out; ``meshes`` is the number used.  Fewer than two
-distinct ``F``: no fit (``alpha`` and ``c`` are ``None``).
+distinct ``F``: no fit (``alpha`` and ``c`` are ``None``).  ``against`` names
+the size fitted against (``F``, the faces, unless another is passed: the
+silhouette ``s`` or ``s log2 F`` of :mod:`silcount.study.literature`).
 """
 
 from __future__ import annotations
@@ -30,13 +33,15 @@ def _slopes(lx: np.ndarray, ly: np.ndarray) -> np.ndarray:
         return np.where(var > 0, (dx * dy).sum(axis=-1) / np.where(var > 0, var, 1.0), np.nan)
 
 
-def power_fit(faces, values, subset: str = "") -> dict:
-    """``{"alpha", "c", "alpha_ci", "meshes", "subset"}`` for ``values ~ c faces^alpha``."""
+def power_fit(faces, values, subset: str = "", against: str = "F") -> dict:
+    """``{"alpha", "c", "alpha_ci", "meshes", "subset", "against"}`` for ``values ~ c faces^alpha`` (``faces``:
+    any positive size, named by ``against``)."""
     x = np.asarray(faces, dtype=np.float64)
     y = np.asarray(values, dtype=np.float64)
     keep = (x > 0) & (y > 0) & np.isfinite(y)
     x, y = x[keep], y[keep]
     out: dict = {"alpha": None, "c": None, "alpha_ci": None, "meshes": int(x.size), "subset": subset}
+    out["against"] = against
     if np.unique(x).size < 2:
         return out
     lx, ly = np.log(x), np.log(y)

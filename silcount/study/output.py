@@ -2,13 +2,16 @@
 
 ``--out DIR`` receives ``corpus.parquet`` (pyarrow; the rows table of
 :mod:`silcount.study.tables`), ``meshes.csv``, ``fits.json``, ``summary.md``
-(the summary and fits tables below) and the figures of
-:mod:`silcount.study.figures`, each written atomically.
+(the summary and fits tables below), when ``gaussmap`` or ``cones`` ran
+``literature.md`` (:mod:`silcount.study.literature_page`, linked from
+``summary.md``) and the figures of :mod:`silcount.study.figures`, each
+written atomically.
 
 The *summary* table has one row per mesh and level: ``file, level, faces,
 kind, coplanar_polygons, silhouette_edges_mean, silhouette_edges_std,
-error``; the *fits* table one row per fit: ``fit, subset, meshes, alpha,
-alpha_lo, alpha_hi, c``.  ``text`` and ``md`` print both (every column);
+error``; the *fits* table one row per fit: ``fit, subset, against`` (the
+size ``x`` of ``y ~ c x^alpha``: ``F`` but for the output-sensitivity fits),
+``meshes, alpha, alpha_lo, alpha_hi, c``.  ``text`` and ``md`` print both (every column);
 ``json`` prints the whole ``silcount-corpus/1`` document.
 """
 
@@ -58,6 +61,7 @@ def fits_frame(fits: dict) -> pd.DataFrame:
             {
                 "fit": name,
                 "subset": f["subset"],
+                "against": f["against"],
                 "meshes": f["meshes"],
                 "alpha": num(f["alpha"], ".3f"),
                 "alpha_lo": num(f["alpha_ci"] and f["alpha_ci"][0], ".3f"),
@@ -66,7 +70,7 @@ def fits_frame(fits: dict) -> pd.DataFrame:
             }
             for name, f in fits.items()
         ],
-        columns=["fit", "subset", "meshes", "alpha", "alpha_lo", "alpha_hi", "c"],
+        columns=["fit", "subset", "against", "meshes", "alpha", "alpha_lo", "alpha_hi", "c"],
     )
 
 
@@ -85,13 +89,16 @@ def render(result: CorpusResult, form: str) -> str:
     meshes, fits_text = (t.to_markdown(index=False) if md else t.to_string(index=False) for t in (summary, fits))
     return (
         f"{head}Meshes\n{gap}{meshes}\n{gap}{failed}"
-        f"\n{head}Fits: y ~ c F^alpha (95% bootstrap interval for alpha)\n{gap}{fits_text}\n"
+        f"\n{head}Fits: y ~ c x^alpha, x = F unless stated (95% bootstrap interval for alpha)\n{gap}{fits_text}\n"
     )
 
 
 def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> list[Path]:
     """Every ``--out`` file under ``out_dir`` (``with_rows=False`` leaves out ``corpus.parquet``)."""
+    from silcount.detectors import LITERATURE
     from silcount.study.figures import write_figures
+    from silcount.study.literature import kind_frame
+    from silcount.study.literature_page import TITLE, page
 
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = []
@@ -102,6 +109,12 @@ def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> li
         paths.append(path)
     paths.append(write_text(out_dir / "meshes.csv", result.meshes.to_csv(index=False)))
     paths.append(write_text(out_dir / "fits.json", json.dumps(result.fits, indent=2) + "\n"))
-    paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + render(result, "md")))
+    frame = kind_frame(result.rows, result.meshes, result.settings)
+    with_page = bool(set(LITERATURE) & set(result.settings.detectors))
+    link = f"See [{TITLE}](literature.md).\n\n" if with_page else ""
+    paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + link + render(result, "md")))
+    if with_page:
+        text = page(frame, result.fits, result.settings, result.failed)
+        paths.append(write_text(out_dir / "literature.md", text))
     runs = [key for key, _, _ in result.settings.runs()]
-    return paths + write_figures(result.meshes, result.fits, runs, out_dir)
+    return paths + write_figures(result.meshes, result.fits, runs, out_dir, frame if with_page else None)

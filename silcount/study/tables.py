@@ -6,14 +6,20 @@
   ``detector`` (``ta``, ``ta:literal``, ...), ``variant``, ``reference_edges``
   (the silhouette size under that light), ``silhouette_edges`` (what the
   detector found), ``missed_edges``/``extra_edges`` against the reference,
-  then per cost model ``M`` (``paper``, ``true``) the counts ``M_add`` ...
+  ``edges_visited`` and ``edges_visited_fraction`` (of E; see
+  :data:`silcount.study.work.VISITED_STEP`), ``steps_<step>`` (the
+  detector's own step counts, empty for the steps of other detectors), then
+  per cost model ``M`` (``paper``, ``true``) the counts ``M_add`` ...
   ``M_write``, their sum ``M_total`` and ``M_cycles_<profile>`` per cycle
   profile.
 * **meshes** (``meshes.csv``): one row per mesh and level: the statistics of
   :func:`silcount.study.work.mesh_record`, ``silhouette_edges_mean``/``_std``,
-  ``time_per_light_s:<detector>``, and per run ``<run>:<column>`` the *mean
-  per light* of every count and cycle column above; ``error`` (empty when the
-  mesh was audited).
+  ``time_per_light_s:<detector>`` and ``time_per_light_s:<light kind>:<detector>``,
+  per run ``<run>:<column>`` the *mean per light* of every count, step and cycle
+  column above, and for a run with a per-mesh preprocessing (the trees of
+  ``gaussmap`` and ``cones``, HSD's merge) ``<run>:build_<kind>``,
+  ``<run>:build_total`` (its ``true`` tally, once per mesh) and
+  ``<run>:tree_bytes``; ``error`` (empty when the mesh was audited).
 * **fits**: :func:`fits` (see :mod:`silcount.study.fits`).
 
 Rows are sorted by file, level, light and the settings' run order, so the
@@ -25,6 +31,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from silcount.study.fits import power_fit
+from silcount.study.literature import output_fits
 from silcount.study.work import Settings
 from silcount.version import __version__
 
@@ -58,6 +65,7 @@ INT_FIELDS = (
     "lights",
 )
 PER_RUN = ("silhouette_edges", "missed_edges", "extra_edges")
+VISITED = ("edges_visited", "edges_visited_fraction")
 
 
 def rows_frame(labels: list[str], results: list[dict]) -> pd.DataFrame:
@@ -80,6 +88,21 @@ def value_columns(rows: pd.DataFrame) -> list[str]:
     return [c for c in rows.columns if c.startswith(("paper_", "true_"))]
 
 
+def step_columns(rows: pd.DataFrame) -> list[str]:
+    """The ``steps_<step>`` columns, in table order."""
+    return [c for c in rows.columns if c.startswith("steps_")]
+
+
+def _build_columns(run: str, build: dict | None) -> dict:
+    if not build:
+        return {}
+    out = {f"{run}:build_{k}": int(v) for k, v in sorted(build["true"].items())}
+    out[f"{run}:build_total"] = int(sum(build["true"].values()))
+    if "tree_bytes" in build:
+        out[f"{run}:tree_bytes"] = int(build["tree_bytes"])
+    return out
+
+
 def meshes_frame(labels: list[str], results: list[dict], rows: pd.DataFrame, settings: Settings) -> pd.DataFrame:
     """One row per (file, level): statistics, silhouette size, times, mean tallies per light, error."""
     import pandas as pd
@@ -87,9 +110,9 @@ def meshes_frame(labels: list[str], results: list[dict], rows: pd.DataFrame, set
     runs = [key for key, _, _ in settings.runs()]
     means = {}
     if not rows.empty:
-        cols = list(PER_RUN) + value_columns(rows)
+        cols = list(PER_RUN) + [c for c in VISITED if c in rows] + step_columns(rows) + value_columns(rows)
         grouped = rows.groupby(["file", "level", "detector"], sort=False)[cols].mean()
-        means = {idx: grouped.loc[idx] for idx in grouped.index}
+        means = {idx: grouped.loc[idx].dropna() for idx in grouped.index}  # a run's own steps only
     records = []
     for label, res in zip(labels, results):
         mesh = res["mesh"]
@@ -97,20 +120,24 @@ def meshes_frame(labels: list[str], results: list[dict], rows: pd.DataFrame, set
         rec.update({k: mesh.get(k) for k in MESH_FIELDS})
         times = mesh.get("time_per_light_s") or {}
         rec.update({f"time_per_light_s:{d}": times.get(d) for d in settings.detectors})
+        for kind, kind_times in (mesh.get("time_by_light_kind") or {}).items():
+            rec.update({f"time_per_light_s:{kind}:{d}": kind_times.get(d) for d in settings.detectors})
         rec["time_errors"] = "; ".join(mesh.get("time_errors") or [])
         for run in runs:
             m = means.get((label, res["level"], run))
             if m is not None:
                 rec.update({f"{run}:{c}": float(v) for c, v in m.items()})
+                rec.update(_build_columns(run, (mesh.get("build") or {}).get(run)))
         rec["error"] = res.get("error") or ""
         records.append(rec)
     frame = pd.DataFrame.from_records(records)
     return frame.sort_values(["file", "level"], kind="stable").reset_index(drop=True)
 
 
-def fits(meshes: pd.DataFrame, settings: Settings) -> dict[str, dict]:
+def fits(meshes: pd.DataFrame, settings: Settings, rows: pd.DataFrame | None = None) -> dict[str, dict]:
     """``silhouette_edges`` (every mesh), ``silhouette_edges:closed``, the same over sources only
-    (``:level0``, when the sweep subdivides), and ``<run>:<model>`` (total operations per light, every mesh)."""
+    (``:level0``, when the sweep subdivides), ``<run>:<model>`` (total operations per light, every mesh),
+    and with ``rows`` the output-sensitivity fits of :func:`silcount.study.literature.output_fits`."""
     ok = meshes[meshes["error"] == ""]
     out = {}
     subsets = [("", ok, "every mesh"), (":closed", ok[ok["closed"].astype(bool)], "closed meshes")]
@@ -127,6 +154,8 @@ def fits(meshes: pd.DataFrame, settings: Settings) -> dict[str, dict]:
             col = f"{run}:{model}_total"
             if col in ok:
                 out[f"{run}:{model}"] = power_fit(ok["faces"], ok[col], f"every mesh, {model} model")
+    if rows is not None and not rows.empty:
+        out.update(output_fits(rows, meshes, settings))
     return out
 
 
@@ -146,15 +175,28 @@ def mesh_documents(meshes: pd.DataFrame, rows: pd.DataFrame, settings: Settings)
     for rec in meshes.to_dict(orient="records"):
         doc = {k: _clean(rec[k], k in INT_FIELDS) for k in ("file", "level", "sha256", *MESH_FIELDS)}
         doc["time_per_light_s"] = {d: _clean(rec[f"time_per_light_s:{d}"]) for d in settings.detectors}
+        columns = [str(c) for c in rec]
+        kinds = sorted({c.split(":")[1] for c in columns if c.count(":") == 2 and c.startswith("time_per_light_s:")})
+        doc["time_by_light_kind"] = {
+            kind: {d: _clean(rec.get(f"time_per_light_s:{kind}:{d}")) for d in settings.detectors} for kind in kinds
+        }
         doc["time_errors"] = rec["time_errors"]
         doc["detectors"] = {}
         for run, _, _ in settings.runs():
             if rec.get(f"{run}:silhouette_edges") is None or rec["error"]:
                 continue
             entry: dict = {k: _clean(rec[f"{run}:{k}"]) for k in PER_RUN}
+            entry.update({k: _clean(rec.get(f"{run}:{k}")) for k in VISITED})
+            steps = {c[len("steps_") :]: _clean(rec.get(f"{run}:{c}")) for c in step_columns(rows)}
+            entry["steps"] = {k: v for k, v in steps.items() if v is not None}
             for model in ("paper", "true"):
                 cols = [c for c in values if c.startswith(f"{model}_")]
                 entry[model] = {c[len(model) + 1 :]: _clean(rec[f"{run}:{c}"]) for c in cols}
+            build = _clean(rec.get(f"{run}:build_total"))
+            if build is not None:
+                built = [c for c in columns if c.startswith(f"{run}:build_") and _clean(rec[c]) is not None]
+                entry["build"] = {c[len(f"{run}:build_") :]: _clean(rec[c], True) for c in built}
+                entry["tree_bytes"] = _clean(rec.get(f"{run}:tree_bytes"), True)
             doc["detectors"][run] = entry
         doc["error"] = rec["error"] or None
         docs.append(doc)

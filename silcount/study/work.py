@@ -27,9 +27,30 @@ Decisions, named:
 * **Time per light** is the wall time of :func:`silcount.detectors.plain.plain_edge_ids`
   (each algorithm's own compiled, uncounted loops, ``intended``), averaged
   over the first ``time_lights`` lights after one warm-up call per process.
-  The O(E x F) loops of VnV and EESD are timed only while ``E x F`` is at most
-  ``time_max_pairs``, the others only up to ``time_max_faces`` faces: beyond,
-  ``null`` (one light of VnV on 86,482 faces would take minutes).
+  For ``gaussmap`` and ``cones`` that is their fast engine's compiled query
+  (:func:`silcount.detectors.hierarchy_query.query_fast`, on one numba thread,
+  its ids sorted) on the mesh's tree, which is built (or taken from the
+  mesh's cache, where the counted runs left it) *before* the clock starts:
+  the time is a query's, the build is not in it (its counted cost is the
+  ``build`` record).  The O(E x F) loops of VnV and EESD are timed only while
+  ``E x F`` is at most ``time_max_pairs``, the others only up to
+  ``time_max_faces`` faces: beyond, ``null`` (one light of VnV on 86,482 faces
+  would take minutes).  Every kernel runs on one numba thread while timed.
+  ``time_by_light_kind`` times the first
+  ``time_lights`` lights of each kind apart; ``time_per_light_s`` is the first
+  kind's (with ``both``, the directional lights').
+* **Edges visited** per light (:data:`VISITED_STEP`): the edges the per-light
+  loop examines, from the detector's own step counts: every edge for
+  ``reference``, VnV and EESD (their loops run over all of E); the sides of
+  the light-facing faces (polygons, for HSD) that TA and HSD look up in S (an
+  edge with both faces lit counts twice); the edges of the leaves the
+  hierarchy opened for ``gaussmap`` and ``cones`` (their ``edge_test``).
+  ``edges_visited_fraction`` divides by E.  Every step count is a row column
+  ``steps_<step>``.
+* **Build**: the per-mesh, light-independent preprocessing and its ``true``
+  tally (:func:`build_record`): the trees of ``gaussmap`` and ``cones``
+  (``notes['build']``, with ``tree_bytes``) and HSD's coplanar merge
+  (``notes['merge']``); a query's tally never includes it.
 """
 
 from __future__ import annotations
@@ -45,7 +66,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import KINDS
 from silcount.counting.cycles import Profile, builtin_profiles
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many
+from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, variants_of
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -55,6 +76,16 @@ from silcount.mesh.stats import mesh_statistics
 LIGHT_DISTANCE = 3.0
 LIGHT_KINDS = ("directional", "point", "both")
 QUADRATIC = ("vnv", "eesd")  # plain loops over every (edge, face) pair
+VISITED_STEP = {
+    "reference": "edge_test",
+    "ta": "search_S",
+    "hsd": "search_S",
+    "vnv": "check_counter",
+    "eesd": "extend",
+    "gaussmap": "edge_test",
+    "cones": "edge_test",
+}
+"""The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
 FLAT_RELATIVE = 1e-9
 """A mesh is *flat* when its vertices' smallest principal extent is at most this times the largest."""
 
@@ -76,10 +107,11 @@ class Settings:
     profiles: tuple[str, ...] = field(default_factory=lambda: tuple(builtin_profiles()))
 
     def runs(self) -> list[tuple[str, str, str]]:
-        """(key, detector, variant) per run; ``reference`` has the one variant, keys as in ``silcount audit``."""
+        """(key, detector, variant) per run; ``reference``, ``gaussmap`` and ``cones`` have the one variant
+        (:func:`silcount.detectors.variants_of`), keys as in ``silcount audit``."""
         out = []
         for name in self.detectors:
-            for variant in ("intended",) if name == "reference" else self.variants:
+            for variant in variants_of(name, self.variants):
                 out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
         return out
 
@@ -151,13 +183,18 @@ def light_record(light: Light) -> dict:
     }
 
 
-def run_record(res: Silhouette, settings: Settings, profiles: dict[str, Profile]) -> dict:
-    """One detector's result under one light: edges, agreement with the reference, tallies and cycles per model."""
-    out: dict[str, int | float] = {
+def run_record(res: Silhouette, settings: Settings, profiles: dict[str, Profile], edges: int) -> dict:
+    """One detector's result under one light: edges, agreement with the reference, edges visited (of ``edges``),
+    steps, tallies and cycles per model."""
+    visited = res.steps.get(VISITED_STEP.get(res.detector, ""))
+    out: dict[str, int | float | None] = {
         "silhouette_edges": res.n_edges,
         "missed_edges": int(res.notes.get("missed_edges", 0)),
         "extra_edges": int(res.notes.get("extra_edges", 0)),
+        "edges_visited": None if visited is None else int(visited),
+        "edges_visited_fraction": None if visited is None else int(visited) / max(edges, 1),
     }
+    out.update({f"steps_{k}": int(v) for k, v in sorted(res.steps.items())})
     for model, tally in sorted(res.tally.items()):
         counts = {k: int(tally.get(k, 0)) for k in KINDS}
         out.update({f"{model}_{k}": v for k, v in counts.items()})
@@ -167,22 +204,49 @@ def run_record(res: Silhouette, settings: Settings, profiles: dict[str, Profile]
     return out
 
 
+def build_record(res: Silhouette) -> dict | None:
+    """A run's per-mesh preprocessing: ``{"true": kind -> count, "steps", "tree_bytes", ...}``, or ``None``.
+
+    ``gaussmap``/``cones``: their tree (``notes['build']``, ``build_steps``, ``tree_bytes``, ``leaf_size``,
+    ``fanout``); HSD: its coplanar merge (``notes['merge']``'s ``true`` tally and steps).
+    """
+    notes = res.notes
+    if "build" in notes:
+        keep = ("tree_bytes", "leaf_size", "fanout")
+        return {"true": dict(notes["build"]), "steps": dict(notes["build_steps"]), **{k: notes[k] for k in keep}}
+    merged = notes.get("merge")
+    if isinstance(merged, dict) and "true" in merged:
+        return {"true": dict(merged["true"]), "steps": dict(merged.get("steps", {}))}
+    return None
+
+
 @cache
 def _warm_up() -> None:
-    """Compile (or load from numba's cache) every plain kernel once per process, outside the timings."""
-    from silcount.detectors.plain import PLAIN, plain_edge_ids
+    """Compile (or load from numba's cache) every plain kernel and query once per process, outside the timings."""
+    from silcount.detectors.plain import PLAIN, QUERIED, plain_edge_ids
     from silcount.mesh.shapes import icosphere
 
     mesh = icosphere(1)
     for light in (DirectionalLight((0.3, 0.5, 0.8)), PointLight((3.0, 2.0, 5.0))):
-        for name in PLAIN:
+        for name in PLAIN + QUERIED:
             plain_edge_ids(mesh, light, name)
 
 
 def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple[dict[str, float | None], list[str]]:
     """Mean seconds per light of each detector's plain loops (``None`` past the limits; see the docstring),
-    and the timings that failed (``None`` too, named)."""
-    from silcount.detectors.plain import PLAIN, plain_edge_ids
+    and the timings that failed (``None`` too, named); every kernel on one numba thread."""
+    import numba
+
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # the reference's chunked kernels would otherwise run in parallel above 65,536
+    try:
+        return _time_per_light(mesh, lights, settings)
+    finally:
+        numba.set_num_threads(threads)
+
+
+def _time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple[dict[str, float | None], list[str]]:
+    from silcount.detectors.plain import PLAIN, QUERIED, plain_edge_ids, tree_of
 
     out: dict[str, float | None] = {}
     errors: list[str] = []
@@ -190,10 +254,12 @@ def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple
     for name in settings.detectors:
         cost = mesh.n_edges * mesh.n_faces if name in QUADRATIC else mesh.n_faces
         limit = settings.time_max_pairs if name in QUADRATIC else settings.time_max_faces
-        if not settings.timing or name not in PLAIN or cost > limit:
+        if not settings.timing or name not in PLAIN + QUERIED or cost > limit or not sample:
             out[name] = None
             continue
         _warm_up()
+        if name in QUERIED:
+            tree_of(mesh, name)  # the per-mesh build, outside the clock (cached with the mesh)
         t0 = time.perf_counter()
         try:
             for light in sample:
@@ -218,6 +284,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["silhouette_edges_mean"] = float(silhouettes.mean())
     record["silhouette_edges_std"] = float(silhouettes.std())
     rows = []
+    builds: dict[str, dict] = {}
     for i, light in enumerate(lights):
         for key, name, variant in settings.runs():
             row = {"light": i, **light_record(light), "detector": key, "variant": variant}
@@ -226,9 +293,20 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
                 res = refs[i]
             else:
                 res = detect(mesh, light, name, variant=variant, engine=settings.engine)
-            row.update(run_record(res, settings, profiles))
+            row.update(run_record(res, settings, profiles, mesh.n_edges))
             rows.append(row)
-    record["time_per_light_s"], record["time_errors"] = time_per_light(mesh, lights, settings)
+            if key not in builds and (built := build_record(res)) is not None:
+                builds[key] = built  # light-independent: the first light's
+    record["build"] = builds
+    by_kind: dict[str, dict[str, float | None]] = {}
+    record["time_errors"] = []
+    kinds = list(dict.fromkeys(light_record(light)["light_kind"] for light in lights))
+    for kind in kinds:
+        same = [light for light in lights if light_record(light)["light_kind"] == kind]
+        by_kind[kind], errors = time_per_light(mesh, same, settings)
+        record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
+    record["time_by_light_kind"] = by_kind
+    record["time_per_light_s"] = next(iter(by_kind.values()), {d: None for d in settings.detectors})
     return {"mesh": record, "rows": rows}
 
 
