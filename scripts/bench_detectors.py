@@ -1,7 +1,7 @@
 """Benchmark the detectors on a ~1.1M-face mesh and print the figures (issues 3 and 15, Performance).
 
     SILCOUNT_MESH_DIR=/path/to/shared/data python scripts/bench_detectors.py [--rounds 3] [--timeout 300] \
-        [--baseline-tree DIR] [--sections reference,many,audit,fast,naive]
+        [--baseline-tree DIR] [--sections reference,many,audit,fast,naive,literature]
 
 ``--baseline-tree``: a checkout of the code to compare with (e.g. ``git
 archive 318ab63 | tar -x -C DIR``); the sections ``reference`` and ``audit``
@@ -26,6 +26,9 @@ same run, and print both figures and their ratio.
 6. ``audit``: ``run_audit`` with all nine detector variants (``--variant
    both``), one light: wall time, peak RSS, per-variant times, and whether the
    two trees' audits (without times) are identical.
+7. ``literature`` (not in the default set): ``gaussmap`` and ``cones`` (their
+   compiled queries and builds) against the reference kernel, a leaf size x
+   fan-out sweep and a table of targets; in ``bench_literature.py``.
 
 Timings on a shared 2-core machine are noisy: read the ratios, not the digits.
 """
@@ -337,7 +340,7 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--sections",
         default="reference,many,audit,fast,naive",
-        help="comma-separated subset of reference,many,audit,fast,naive",
+        help="comma-separated subset of reference,many,audit,fast,naive,literature",
     )
     ap.add_argument("--baseline-tree", default=None, help="a checkout to compare with (reference and audit sections)")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -372,6 +375,10 @@ def main(argv=None) -> int:
         section_fast(mesh, names, args.timeout)
     if "naive" in sections:
         section_naive(names, args.naive_timeout)
+    if "literature" in sections:
+        from bench_literature import section_literature  # a sibling script (sys.path[0] is scripts/)
+
+        section_literature(mesh)
     return 0
 
 
