@@ -16,9 +16,10 @@ PLY specification defines it:
 * a file with vertices and no face (a point cloud) is "no faces" (exit 4).
 
 ASCII bodies are read as the specification's stream of numbers (line breaks
-carry no meaning), parsed in C; binary bodies with ``np.frombuffer``.  An
-element whose records all have the same list lengths (every face a triangle)
-is read in one vectorised step; otherwise record by record.
+carry no meaning), parsed in C, or one record a line when lines carry values
+the header does not declare (:mod:`.ply_lines`); binary bodies with
+``np.frombuffer``.  An element whose records all have the same list lengths
+(every face a triangle) is read in one vectorised step; else record by record.
 
 Refused on purpose (exit 3, said so): an unknown format or property type.
 """
@@ -34,6 +35,7 @@ import numpy as np
 
 from silcount.errors import UnreadableInput
 from silcount.mesh.formats.common import Parsed, numbers, refuse_if_short
+from silcount.mesh.formats.ply_lines import Lines, by_lines
 from silcount.mesh.formats.strips import decode_strips
 
 TYPES = {
@@ -308,6 +310,20 @@ def read(path: Path, data: bytes) -> Parsed:
 def _read(data: bytes) -> Parsed:
     header = parse_header(data[: 1 << 20])
     body = _Body(data[header.body_at :], header.fmt)
+    lines = Lines()
+    if body.ascii:
+        lines = by_lines(data[header.body_at :], body.vals, header.elements, data[: header.body_at].count(b"\n"))
+    if lines.vals is not None:
+        body.vals, body.size = lines.vals, lines.vals.size
+    try:
+        return _elements(header, body, [lines.note] if lines.note else [])
+    except _Corrupt:
+        if lines.short:  # one record a line, extra values, and short: the stream's misreading would not say so
+            raise _Corrupt(lines.short) from None
+        raise
+
+
+def _elements(header: Header, body: _Body, notes: list[str]) -> Parsed:
     pos = 0
     verts = np.zeros((0, 3))
     polys: list[tuple[np.ndarray, np.ndarray]] = []
@@ -349,7 +365,7 @@ def _read(data: bytes) -> Parsed:
     def where(i: int) -> str:
         return f"face {i}" if i < n_face else f"tristrip triangle {i - n_face}"
 
-    return Parsed(verts, sizes, corners, where, no_faces=why)
+    return Parsed(verts, sizes, corners, where, no_faces=why, notes=notes)
 
 
 def estimate(path: Path, size: int) -> tuple[int, int]:
