@@ -10,7 +10,7 @@ On the mesh of bench_detectors.py (1,043,264 faces with 3 rounds), in one run:
   (``adjacency.silhouette_edge_ids``) on the same light, timed back to back;
   medians over the lights, their ratios, and the bandwidth floor of one
   reference pass (``floor_of``); every answer compared with the reference's ids;
-  the reference kernel on one thread too (context: the hierarchy queries are serial);
+  the reference kernel on one thread too (context: both kernels are parallel on a mesh this size);
 * edges tested per query (``steps['edge_test']``) over E;
 * the build (best of 3, the mesh's cached edge table, sides, p0 and normals
   warmed first), its ratio to one reference query, the break-even number of
@@ -138,7 +138,7 @@ def section_literature(mesh: silcount.Mesh) -> None:
     print(f"\n{'per-light query':22s} {'directional':>40s}   {'point':>40s}")
     threads = numba.get_num_threads()
     print(f"{f'reference kernel ({threads} thr)':22s} {_ms(ref_med['dir']):>40s}   {_ms(ref_med['point']):>40s}")
-    numba.set_num_threads(1)  # context only: the hierarchy queries are serial, the reference kernel is parallel
+    numba.set_num_threads(1)  # context only: on one thread, as the corpus study times every kernel
     try:
         one = {k: float(np.median([best_time(lambda L=L: adjacency.silhouette_edge_ids(mesh, L), REPEAT)
                                    for L in v])) for k, v in kinds.items()}  # fmt: skip

@@ -9,10 +9,14 @@ at the cluster.  Point and directional lights.
 
 silcount's reading
 ------------------
-* **Clusters** are ``leaf_size`` consecutive edges in the 3-D Z-order of
-  the point ``p0(f1) + p0(f2)`` (the first vertices of the edge's two faces),
-  grouped ``fanout`` at a time up to one root (:mod:`.hierarchy`): a
-  spatial tree, as in Johnson and Cohen, built bottom-up.
+* **Clusters** are ``leaf_size`` consecutive edges in the 5-D Z-order of
+  the point ``p0(f1) + p0(f2)`` (the first vertices of the edge's two faces,
+  12 bits per axis of the mesh's box) and of the direction of ``n1 + n2``
+  (its octahedral-map cell, 12 bits per axis), grouped ``fanout`` at a time
+  up to one root (:mod:`.hierarchy`): a tree clustered by position and
+  normal at once, as Johnson and Cohen's spatialized normal cones are,
+  built bottom-up.  (A key of position alone tested about three times as
+  many edges on the 1.04 M-face bunny: 15 % of E against 5-8 %.)
 * **The bounds** are axis-aligned boxes of the faces' normals (the cone's
   bounding box) and of their ``p0``.  A cone test needs the angle between
   the light and the cone's axis, whose rounding would need its own error
@@ -37,12 +41,14 @@ from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.base import Silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_query import detect as detect_with
-from silcount.detectors.morton import interleave3
+from silcount.detectors.morton import counted_octahedral, interleave5, octahedral
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "cones"
-QUANT = float((1 << 21) - 1)
+BITS = 12  # per coordinate of the 5-D key: 3 of position, 2 of normal direction
+QUANT = float((1 << BITS) - 1)  # a position's cell: [0, QUANT]
+QUANT_N = float((1 << (BITS - 1)) - 1)  # a direction's: (p + 1) * QUANT_N in [0, 2 QUANT_N] for p in [-1, 1]
 
 
 def _frame(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -53,24 +59,26 @@ def _frame(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 @njit(cache=True)
-def _keys(p0, f1, f2, lo2, scale):  # pragma: no cover - compiled
-    """Z-order codes of the grid cells of ``p0(f1) + p0(f2)``, with :func:`key_naive`'s arithmetic."""
+def _keys(p0, nrm, f1, f2, lo2, scale):  # pragma: no cover - compiled
+    """5-D Z-order codes of ``p0(f1) + p0(f2)`` and the direction of ``n1 + n2``, as :func:`key_naive` computes."""
     T = f1.size
     keys = np.empty(T, dtype=np.uint64)
     cell = np.empty(3, dtype=np.uint64)
     for i in range(T):
+        a, b = f1[i], f2[i]
         for c in range(3):
-            q = (p0[f1[i], c] + p0[f2[i], c] - lo2[c]) * scale[c]
+            q = (p0[a, c] + p0[b, c] - lo2[c]) * scale[c]
             cell[c] = np.uint64(q) if np.isfinite(q) else np.uint64(0)
-        keys[i] = interleave3(cell[0], cell[1], cell[2])
+        nx, ny = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], QUANT_N)
+        keys[i] = interleave5(cell[0], cell[1], cell[2], nx, ny)
     return keys
 
 
 def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
-    """Z-order keys of ``p0(f1) + p0(f2)`` in the box of every ``p0``, with :func:`key_naive`'s arithmetic."""
+    """The edges' 5-D keys (position in the box of every ``p0``, normal direction), compiled."""
     p0 = mesh.face_p0
     lo2, scale = _frame(p0.min(axis=0), p0.max(axis=0))
-    return _keys(p0, f1, f2, lo2, scale)
+    return _keys(p0, mesh.face_normals, f1, f2, lo2, scale)
 
 
 def setup_naive(p0: Memory, F: int, counter: OpCounter) -> tuple:
@@ -89,21 +97,26 @@ def setup_naive(p0: Memory, F: int, counter: OpCounter) -> tuple:
 
 
 def key_naive(p0: Memory, nrm: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
-    """One edge's key on counting arithmetic (6 R, 6 A, 3 M)."""
+    """One edge's key on counting arithmetic (12 R, 15 A, 12 M, 5 C, 2 div).
+
+    Position: ``p0(f1) + p0(f2)`` (6 R, 3 A), its cell (3 A, 3 M); direction: ``n1 + n2`` (6 R, 3 A),
+    its octahedral cell (6 A, 9 M, 5 C, 2 div).
+    """
     lo2, scale = consts
     c = [p0[f1, k] + p0[f2, k] for k in range(3)]
     q = [plain((c[k] - lo2[k]) * scale[k]) for k in range(3)]
     cells = [np.uint64(x) if np.isfinite(x) else np.uint64(0) for x in q]
-    return int(interleave3(cells[0], cells[1], cells[2]))
+    nx, ny = counted_octahedral([nrm[f1, k] + nrm[f2, k] for k in range(3)], QUANT_N)
+    return int(interleave5(cells[0], cells[1], cells[2], nx, ny))
 
 
 SCHEME = KeyScheme(
     name=NAME,
-    bits=63,
+    bits=5 * BITS,
     fast=keys_fast,
     setup_naive=setup_naive,
     naive=key_naive,
-    key_cost={"read": 6, "add": 6, "mul": 3},
+    key_cost={"read": 12, "add": 15, "mul": 12, "cmp": 5, "div": 2},
     setup_cost=lambda F: {"read": 3 * F, "cmp": 6 * F + 3, "add": 9, "div": 3},
 )
 

@@ -37,11 +37,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from silcount.counting.arithmetic import Memory, OpCounter, plain
+from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.base import Silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_query import detect as detect_with
-from silcount.detectors.morton import interleave2
+from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
@@ -55,23 +55,8 @@ def _keys(nrm, f1, f2, quant):  # pragma: no cover - compiled
     T = f1.size
     keys = np.empty(T, dtype=np.uint64)
     for i in range(T):
-        ux = nrm[f1[i], 0] + nrm[f2[i], 0]
-        uy = nrm[f1[i], 1] + nrm[f2[i], 1]
-        uz = nrm[f1[i], 2] + nrm[f2[i], 2]
-        sx = 1.0 if ux >= 0.0 else -1.0
-        sy = 1.0 if uy >= 0.0 else -1.0
-        sz = 1.0 if uz >= 0.0 else -1.0
-        s = ux * sx + uy * sy + uz * sz
-        if s == 0.0:
-            s = 1.0
-        px, py = ux / s, uy / s
-        fx = (1.0 - py * sy) * sx
-        fy = (1.0 - px * sx) * sy
-        if uz < 0.0:
-            px, py = fx, fy
-        qx, qy = (px + 1.0) * quant, (py + 1.0) * quant
-        cx = np.uint64(qx) if np.isfinite(qx) else np.uint64(0)
-        cy = np.uint64(qy) if np.isfinite(qy) else np.uint64(0)
+        a, b = f1[i], f2[i]
+        cx, cy = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], quant)
         keys[i] = interleave2(cx, cy)
     return keys
 
@@ -82,21 +67,9 @@ def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
 
 
 def key_naive(p0: Memory, nrm: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
-    """One arc's key on counting arithmetic (6 R, 9 A, 9 M, 5 C, 2 div)."""
-    u = [nrm[f1, c] + nrm[f2, c] for c in range(3)]
-    sign = [1.0 if x >= 0.0 else -1.0 for x in u]
-    a = [u[c] * sign[c] for c in range(3)]
-    s = a[0] + a[1] + a[2]
-    if s == 0.0:
-        s = 1.0
-    px, py = u[0] / s, u[1] / s
-    fx = (1.0 - py * sign[1]) * sign[0]
-    fy = (1.0 - px * sign[0]) * sign[1]
-    if u[2] < 0.0:
-        px, py = fx, fy
-    qx, qy = plain((px + 1.0) * QUANT), plain((py + 1.0) * QUANT)
-    cells = [np.uint64(q) if np.isfinite(q) else np.uint64(0) for q in (qx, qy)]
-    return int(interleave2(cells[0], cells[1]))
+    """One arc's key on counting arithmetic: ``n1 + n2`` (6 R, 3 A), its octahedral cell (6 A, 9 M, 5 C, 2 div)."""
+    cx, cy = counted_octahedral([nrm[f1, c] + nrm[f2, c] for c in range(3)], QUANT)
+    return int(interleave2(cx, cy))
 
 
 SCHEME = KeyScheme(

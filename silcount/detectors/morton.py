@@ -1,13 +1,16 @@
-"""Z-order (Morton) codes: the bit interleaving that turns a quadtree or octree cell into one integer.
+"""Z-order (Morton) codes and the octahedral map: how the hierarchies' keys turn a cell into one integer.
 
 Used by the hierarchies' keys (:mod:`.gaussmap`, :mod:`.cones`).  Integer
-bit manipulation is index arithmetic and is not counted (``docs/counting.md``).
+bit manipulation is index arithmetic and is not counted (``docs/counting.md``);
+the octahedral map's floating-point work is, in :func:`counted_octahedral`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from silcount.counting.arithmetic import plain
 
 _M = np.uint64
 
@@ -44,3 +47,58 @@ def interleave2(x, y):  # pragma: no cover - compiled
 def interleave3(x, y, z):  # pragma: no cover - compiled
     """The 63-bit Z-order code of 21-bit cell indices ``x``, ``y``, ``z`` (uint64 scalars)."""
     return _spread3(x) | (_spread3(y) << _M(1)) | (_spread3(z) << _M(2))
+
+
+@njit(cache=True)
+def interleave5(c0, c1, c2, c3, c4):  # pragma: no cover - compiled
+    """The 60-bit Z-order code of five 12-bit cell indices (``c0`` in the lowest bit of each group)."""
+    key = _M(0)
+    for b in range(12):
+        bit = _M(b)
+        key |= ((c0 >> bit) & _M(1)) << _M(5 * b)
+        key |= ((c1 >> bit) & _M(1)) << _M(5 * b + 1)
+        key |= ((c2 >> bit) & _M(1)) << _M(5 * b + 2)
+        key |= ((c3 >> bit) & _M(1)) << _M(5 * b + 3)
+        key |= ((c4 >> bit) & _M(1)) << _M(5 * b + 4)
+    return key
+
+
+@njit(cache=True)
+def octahedral(x, y, z, quant):  # pragma: no cover - compiled
+    """Cell indices of direction ``(x, y, z)`` on the octahedral map, ``(p + 1) * quant`` per axis.
+
+    The direction over its 1-norm, the lower hemisphere folded out to the square's corners; the same
+    operations, in the same order, as :func:`counted_octahedral`.  A non-finite point goes to cell 0.
+    """
+    sx = 1.0 if x >= 0.0 else -1.0
+    sy = 1.0 if y >= 0.0 else -1.0
+    sz = 1.0 if z >= 0.0 else -1.0
+    s = x * sx + y * sy + z * sz
+    if s == 0.0:
+        s = 1.0
+    px, py = x / s, y / s
+    fx = (1.0 - py * sy) * sx
+    fy = (1.0 - px * sx) * sy
+    if z < 0.0:
+        px, py = fx, fy
+    qx, qy = (px + 1.0) * quant, (py + 1.0) * quant
+    cx = _M(qx) if np.isfinite(qx) else _M(0)
+    cy = _M(qy) if np.isfinite(qy) else _M(0)
+    return cx, cy
+
+
+def counted_octahedral(u: list, quant: float) -> tuple[np.uint64, np.uint64]:
+    """:func:`octahedral` of ``u`` (three counted values) on counting arithmetic: 6 A, 9 M, 5 C, 2 div."""
+    sign = [1.0 if x >= 0.0 else -1.0 for x in u]
+    a = [u[c] * sign[c] for c in range(3)]
+    s = a[0] + a[1] + a[2]
+    if s == 0.0:
+        s = 1.0
+    px, py = u[0] / s, u[1] / s
+    fx = (1.0 - py * sign[1]) * sign[0]
+    fy = (1.0 - px * sign[0]) * sign[1]
+    if u[2] < 0.0:
+        px, py = fx, fy
+    q = [plain((px + 1.0) * quant), plain((py + 1.0) * quant)]
+    cx, cy = (_M(v) if np.isfinite(v) else _M(0) for v in q)
+    return cx, cy
