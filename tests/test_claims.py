@@ -16,7 +16,8 @@ import pytest
 from silcount.cli.main import main
 from silcount.counting import paper as models
 from silcount.papers import claims, formulas, projection, tables
-from silcount.papers.claims import base, cells
+from silcount.papers.claims import AMBIGUOUS, FAILS, base, cells
+from silcount.papers.claims.rendering import findings, render_json, render_md, render_text
 from silcount.papers.quotes import check, papers_dir
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -107,6 +108,11 @@ def test_table_cell_verdicts_by_hand(by_key, key, verdict):
         ("eesd2012-eesd annotations -> line 1", "FAILS"),  # the add's 1A per (edge, face) is left out
         ("hsd2011-hsd annotations -> line 1", "AMBIGUOUS"),  # m -> 1 or m - 1
         ("eesd-big-oh", "FAILS"),  # all three are O(n^2) by the paper's own sums
+        # O() is an upper bound: TA's worst case (S searched at its bound e_n = 6n, per side) is 12 m n^2 + ...,
+        # reached by tests/test_witness.py's family; typical growth F^1.29 does not contradict it
+        ("eesd-complexity-ta", "HOLDS"),
+        ("eesd-complexity-vnv", "HOLDS"),  # e_n f_n visibility tests whatever the light: 168 n^2 + 18 n
+        ("eesd-complexity-eesd", "HOLDS"),  # e_n f_n ray tests: 48 n^2 + 78 n
         ("eesd-table-point", "FAILS"),  # 2E = mF with E = 6n, F = n needs m = 12
         # cycles at n=10, m=5 (weights 4,2,3,1,2): TA 600+160+9030+3130+200 = 13120, EESD 7920+5520+1800+120+240
         ("eesd-cheaper-than-ta n=10 m=5 cycles", "FAILS"),
@@ -211,3 +217,113 @@ def test_committed_reports_are_regenerated(tmp_path):
         assert (ROOT / "reports" / "claims" / p.name).read_text() == p.read_text(), (
             "reports/claims is stale: run silcount.papers.claims.report('reports')"
         )
+
+
+# ---- which reading the papers' own tables and figures use (issue 23) ---------------------------------------------
+def test_every_ambiguous_verdict_says_which_reading_the_tables_use(all_claims):
+    ambiguous = [c for c in all_claims if c.verdict == claims.AMBIGUOUS]
+    assert ambiguous
+    missing = [c.key for c in ambiguous if not c.table_reading]
+    assert not missing, f"AMBIGUOUS without table_reading: {missing}"
+    for c in ambiguous:
+        assert "\n" not in c.table_reading and len(c.table_reading) < 400, c.key  # one line
+        # either a commitment, quoting a table or figure, or the honest "none"
+        assert any(w in c.table_reading for w in ("Table", "Fig.", "Figs.")), c.key
+
+
+def test_the_intersection_reading_is_the_one_the_tables_charge(by_key):
+    # EESD's Mult is e_n (3 + f_n * (Mult per test)); Tables 1-2 print 1980 and 181800
+    from silcount.papers import kernels
+
+    entry = next(c for c in models.load("eesd2012-claims")["claims"] if c["id"] == "eesd-intersection")
+    cells_mul = {(10, 5): 1980, (100, 10): 181800}
+    fits = {}
+    for name in entry["kernels"]:
+        per_test = kernels.kernel_cost(name).get("mul", 0)
+        fits[kernels.KERNELS[name][1]] = all(6 * n * (3 + n * per_test) == v for (n, _), v in cells_mul.items())
+    assert fits == {"aR_x+bR_y+cR_z+d = 0 for a point R": True, "does the ray x0 + t d, t > 0, cross the plane": False}
+    c = by_key["eesd-intersection"]
+    assert c.verdict == claims.AMBIGUOUS and "plane-equation" in c.table_reading and "1980" in c.table_reading
+    assert "4380" in c.table_reading  # 6n (3 + 7n) at n = 10
+
+
+def test_the_hsd_side_loop_reading_reaches_every_claim_judged_under_it(by_key):
+    text = models.load("hsd2011-hsd")["table_reading"]
+    for key in ("hsd2011-hsd annotations -> line 1", "hsd2011-hsd closed form vs re-derived", "hsd-decreased-by-one"):
+        assert by_key[key].table_reading == text, key
+    assert "600100" in text and "540100" in text  # TA's and HSD's compares at Fig. 6's point, by hand
+
+
+def test_table_readings_are_rendered_in_md_json_and_text(all_claims):
+    from silcount.papers.claims.rendering import render_json, render_md, render_text
+
+    md = render_md(all_claims)
+    section = md.split("## AMBIGUOUS verdicts: the reading the papers' own tables and figures use")[1]
+    rows = [line for line in section.splitlines() if line.startswith("| ") and not line.startswith("| # ")]
+    ambiguous = [c for c in all_claims if c.verdict == claims.AMBIGUOUS]
+    assert len(rows) == len(ambiguous)
+    assert all(row.startswith(f"| {c.id} | {c.key} |") for row, c in zip(rows, ambiguous))
+    data = json.loads(render_json(all_claims))
+    assert all("table_reading" in d for d in data)
+    assert all(d["table_reading"] for d in data if d["verdict"] == claims.AMBIGUOUS)
+    assert "    tables:    Figs. 5 and 6" in render_text(all_claims)
+
+
+def test_edge_inverse_lists_both_storages(by_key):
+    """Issue 24: 'one Inverse or 1Muls' is a swap of a vertex pair (no arithmetic) or, with signed edge ids
+    (twin = -e), one multiply by -1; the paper does not say how edges are stored."""
+    c = by_key["eesd-inverse"]
+    assert c.verdict == AMBIGUOUS
+    assert [r.holds for r in c.readings] == [False, True]
+    assert "signed" in c.readings[1].reading and c.table_reading
+
+
+def test_primitive_claims_say_which_computations_were_tried(by_key):
+    for key, tried in (
+        ("eesd-normal", ("(p1-p0) x (p2-p0)", "e1 x e2", "stored normal")),
+        ("eesd-light-ray", ("L - p0", "L - w p0", "L + t (p0 - L)")),
+    ):
+        c = by_key[key]
+        assert c.verdict == FAILS and len(c.readings) == 3
+        assert all(t in c.reason.split("Computations tried:")[1] for t in tried), c.reason
+
+
+FOLLOWS = {
+    "eesd2012-ta closed form vs re-derived": "eesd2012-ta line 2 -> line 3",
+    "eesd2012-eesd closed form vs re-derived": "eesd2012-eesd annotations -> line 1",
+    "hsd2011-ta closed form vs re-derived": "hsd2011-ta line 2 -> line 3",
+    "EESD Table 1 ta cmp": "eesd2012-ta line 2 -> line 3",
+    "EESD Table 2 ta cmp": "eesd2012-ta line 2 -> line 3",
+    "EESD Table 1 eesd add": "eesd2012-eesd annotations -> line 1",
+    "EESD Table 2 eesd add": "eesd2012-eesd annotations -> line 1",
+    "hsd-ratios-together": "hsd-vnv-six-times",
+}
+
+
+def test_restated_slips_name_the_claim_they_follow_from(all_claims, by_key):
+    """Issue 24: a FAILS that restates another FAILS at another place is kept and marked, in every format."""
+    assert {c.key: c.follows_from for c in all_claims if c.follows_from} == FOLLOWS
+    for key, source in FOLLOWS.items():
+        assert by_key[key].verdict == by_key[source].verdict == FAILS
+    assert not by_key["EESD Table 1 ta read"].follows_from  # a typo in the cell is the cell's own erratum
+    data = {c["key"]: c for c in json.loads(render_json(all_claims))}
+    assert all(data[k]["follows_from"] == v for k, v in FOLLOWS.items())
+    assert data["eesd-dot"]["follows_from"] is None
+    jsonschema.validate(list(data.values()), json.loads((ROOT / "docs/schemas/claims.schema.json").read_text()))
+    assert "    follows:   eesd2012-ta line 2 -> line 3" in render_text(all_claims)
+    assert "| eesd2012-ta line 2 -> line 3 |" in render_md(all_claims)
+    fails = sum(c.verdict == FAILS for c in all_claims)
+    row = f"| all | {len(all_claims)} |"
+    line = next(x for x in findings(all_claims).splitlines() if x.startswith(row))
+    assert f"| {fails} | {fails - len(FOLLOWS)} |" in line
+    assert "of them independent errata" in findings(all_claims)
+
+
+def test_organisation_paragraph_numbers_the_conclusion_wrongly(by_key):
+    """Issue 24, 4(1): HSD's organisation paragraph puts the conclusion in 'section 8'; its heading is IX."""
+    c = by_key["hsd-organisation-conclusion"]
+    assert c.verdict == FAILS and c.family == "cross-reference"
+    assert "9" in c.reason and "not 8" in c.reason
+    from silcount.papers.claims.citations import roman
+
+    assert [roman(x) for x in ("I", "IV", "VIII", "IX", "XIV")] == [1, 4, 8, 9, 14]

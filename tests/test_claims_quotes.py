@@ -1,7 +1,8 @@
 """Every quote stored in models/ occurs in its paper, over its stored lines (whitespace-insensitive).
 
-Checks the data without building the claims (fast): the claims files, the
-table rows, the per-line annotations and the printed closed-form lines.
+Checks the data without building the claims (fast): the claims files (with the
+captions and rows their ``table_reading`` cites), the table rows, the per-line
+annotations and the printed closed-form lines.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ def _quotes():
         data = models.load(name)
         for c in data["claims"]:
             yield f"{name}:{c['id']}", c.get("paper", data["source_file"]), c["quote"], c["lines"]
-            for prefix in ("ref_", "earlier_"):
+            for prefix in ("ref_", "earlier_", "table_"):
                 if f"{prefix}quote" in c:
                     yield f"{name}:{c['id']}:{prefix}", data["source_file"], c[f"{prefix}quote"], c[f"{prefix}lines"]
     for name in ("eesd2012-paper",):
@@ -34,6 +35,8 @@ def _quotes():
             yield f"{name}:{step}", data["source_file"], spec["quote"], spec["lines"]
         for i, line in enumerate(data["closed_form"]["lines"]):
             yield f"{name}:line {i + 1}", data["source_file"], line.get("quote", line["printed"]), line["lines"]
+        if "table_quote" in data:
+            yield f"{name}:table_reading", data["source_file"], data["table_quote"], data["table_lines"]
 
 
 QUOTES = list(_quotes())

@@ -16,7 +16,9 @@ per-line costs (``cost_corrected``) and the printed expansion line by line
 and compares them term by term (:func:`expansion_steps`).  The papers' own evaluation point is
 ``v = 1, s = 0`` (``[evaluation]`` of the paper file): the printed TA sum
 runs the side loop for every face, which is exact only when every face is
-light-facing, and then a closed mesh has no silhouette edge.
+light-facing, and then a closed mesh has no silhouette edge.  No closed,
+consistently wound mesh has every face lit, so this point judges the printed
+arithmetic, never stands in for an execution (:mod:`silcount.papers.witness`).
 
 Two further re-derivations judge a printed sum on the papers' own terms
 (``under`` of each step names the conditionals and arms that enclose it):
@@ -180,7 +182,11 @@ def worst_case(model: str, reading: str = "") -> Form:
 
 @cache
 def witness(model: str, reading: str = "") -> Form:
-    """An achievable execution: the structural run counts (``branch``) at the paper's evaluation point."""
+    """The structural run counts (``branch``) at the paper's evaluation point (v = 1, s = 0).
+
+    Not an execution: no closed, consistently wound mesh has every face lit (sum_f d.n_f A_f = 0 for a
+    directional light, -3 x volume for a point light).  FAILS verdicts rest on executed runs instead
+    (:func:`silcount.papers.witness.bound_witness`)."""
     form = _sum_over_steps(model, structural=True, corrected=False, reading=reading)
     point = evaluation_point(model)
     return {k: sp.expand(x.subs(point)) for k, x in form.items()}

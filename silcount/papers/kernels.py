@@ -2,7 +2,8 @@
 
 EESD paper Sec. 5 ("A dot product needs 3 Multiplies and 2 Adds. A vector or
 ray addition requires 3 Adds"), Sec. 5.1 (face normal "3Adds and 3Muls", light
-ray "4Muls and 3Adds", edge inverse "one Inverse or 1Muls"), Sec. 5.3 (ray
+ray "4Muls and 3Adds", edge inverse "one Inverse or 1Muls": a vertex-pair swap or,
+with signed edge ids, a multiply by -1; the paper does not say how edges are stored), Sec. 5.3 (ray
 point "3Mults and 3Adds", the plane test ``aR_x+bR_y+cR_z+d=0``).  Each
 kernel is the operation under one reading of the text; :func:`kernel_cost`
 counts what executing it costs (arithmetic kinds only: reads and writes
@@ -62,6 +63,20 @@ def _kernel_edge_inverse(c):
     a, b = b, a  # reversing an edge swaps its two vertex ids
 
 
+def _kernel_edge_inverse_signed(c):
+    _ = Num(5, c) * -1  # signed edge ids, twin = -e: the reverse is one multiply by -1
+
+
+def _kernel_cross_product(c):
+    e1, e2 = _vec(c, -1, 1, 0), _vec(c, -1, 0, 1)  # two stored edge vectors
+    [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+
+
+def _kernel_light_ray_parametric(c):
+    light, p0, t = _vec(c, 0, 0, 5), _vec(c, 1, 0, 0), Num(0.5, c)
+    [light[i] + t * (p0[i] - light[i]) for i in range(3)]  # a point L + t (p0 - L) of the ray
+
+
 def _kernel_point_in_plane(c):
     plane, r = _vec(c, 0, 0, 1, -1), _vec(c, 1, 2, 1)
     _ = plane[0] * r[0] + plane[1] * r[1] + plane[2] * r[2] + plane[3] == 0
@@ -98,7 +113,10 @@ KERNELS = {
     "light_vector_homogeneous": (_kernel_light_vector_homogeneous, "L - w p0 (homogeneous light)"),
     "normal_from_corners": (_kernel_normal, "(p1-p0) x (p2-p0)"),
     "normal_precomputed": (_kernel_normal_precomputed, "a stored normal, read"),
-    "edge_inverse": (_kernel_edge_inverse, "(a, b) -> (b, a)"),
+    "edge_inverse": (_kernel_edge_inverse, "(a, b) -> (b, a): an edge as its two vertex ids, swapped"),
+    "edge_inverse_signed": (_kernel_edge_inverse_signed, "e -> -e: signed edge ids (twin = -e), one multiply by -1"),
+    "cross_product": (_kernel_cross_product, "e1 x e2 of two stored edge vectors"),
+    "light_ray_parametric": (_kernel_light_ray_parametric, "a point L + t (p0 - L) of the ray"),
     "point_in_plane": (_kernel_point_in_plane, "aR_x+bR_y+cR_z+d = 0 for a point R"),
     "ray_plane": (_kernel_ray_plane, "does the ray x0 + t d, t > 0, cross the plane"),
     "sign_test": (_kernel_sign_test, "x > 0"),

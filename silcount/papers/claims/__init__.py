@@ -26,14 +26,19 @@ if TYPE_CHECKING:
 
 
 def default_evidence(real: bool = False) -> "Evidence":
-    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`) and the render
-    experiments' pixel mismatches of the literal stencil steps
-    (:func:`silcount.render.experiments.stencil_step_evidence`)."""
-    from silcount.papers import growth
+    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), TA's witness family
+    (:func:`silcount.papers.witness.witness_evidence`) and the render experiments' pixel mismatches of the
+    literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
+    from silcount.papers import growth, witness
     from silcount.papers.claims.context import Evidence
     from silcount.render.experiments import stencil_step_evidence
 
-    return Evidence(exponents=growth.icosphere_evidence(), stencil=stencil_step_evidence(), real=real)
+    return Evidence(
+        exponents=growth.icosphere_evidence(),
+        stencil=stencil_step_evidence(),
+        real=real,
+        worst=witness.witness_evidence(),
+    )
 
 
 def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
@@ -62,7 +67,16 @@ def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
                 out.append(with_evidence[check](c, source, ev))
     for i, claim in enumerate(out, start=1):
         claim.id = i
+    _check_follows(out)
     return out
+
+
+def _check_follows(out: list[Claim]) -> None:
+    """``follows_from`` names a FAILS claim, and only a FAILS claim restates one."""
+    verdict = {c.key: c.verdict for c in out}
+    for c in out:
+        if c.follows_from and (c.verdict != FAILS or verdict.get(c.follows_from) != FAILS):
+            raise ValueError(f"{c.key}: follows_from {c.follows_from!r} needs both claims to be FAILS")
 
 
 def claims_frame(evidence: "Evidence | None" = None) -> "pd.DataFrame":

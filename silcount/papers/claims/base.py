@@ -55,6 +55,11 @@ class Claim:
     reason: str
     readings: list[Reading] = field(default_factory=list)
     id: int = 0
+    # which reading the papers' own tables or figures use (models/: ``table_reading``), "" when not recorded
+    table_reading: str = ""
+    # the key of the FAILS claim whose slip this FAILS restates at another place (a table cell computed from a
+    # printed line that already fails, ...); "" for an independent erratum
+    follows_from: str = ""
 
     @property
     def where(self) -> str:
@@ -77,6 +82,8 @@ class Claim:
             "measured": self.measured,
             "verdict": self.verdict,
             "reason": self.reason,
+            "table_reading": self.table_reading or None,
+            "follows_from": self.follows_from or None,
         }
 
 
@@ -129,7 +136,10 @@ def unit_weights() -> tuple:
 
 
 def claim_from_data(c: dict, source: str, family: str, **judged) -> Claim:
-    """A claim whose location, quote, statement and printed value come from a ``[[claims]]`` entry."""
+    """A claim whose location, quote, statement, printed value (and ``table_reading``) come from a
+    ``[[claims]]`` entry."""
+    judged.setdefault("table_reading", c.get("table_reading", ""))
+    judged.setdefault("follows_from", c.get("follows_from", ""))
     return Claim(
         key=c["id"],
         family=family,

@@ -16,6 +16,7 @@ from silcount.counting import paper as models
 from silcount.papers import formulas as F
 from silcount.papers import tables as T
 from silcount.papers.claims.base import FAILS, HOLDS, Claim
+from silcount.papers.claims.derivations import slip_of
 
 KIND_OF = {label: kind for kind, label in T.KIND_LABEL.items()}
 
@@ -80,6 +81,8 @@ def cell_claims() -> list[Claim]:
                             f"{c['measured_on']}",
                             verdict=HOLDS if printed == conv else FAILS,
                             reason="; ".join(notes) + ".",
+                            # the printed closed form's own slip, not a new one: only a typo is the cell's own
+                            follows_from=slip_of(row["model"], kind) if printed != conv and not c["typo"] else "",
                         )
                     )
     return out

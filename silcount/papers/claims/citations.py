@@ -4,7 +4,8 @@ A citation claim names an author and (where the text gives one) a year; the
 reference entry it cites is quoted too (``ref_quote``).  HOLDS when the entry
 names the author and carries the year; FAILS otherwise.  An "earlier use"
 claim ("first proposed in Y") FAILS when the same paper reports the thing in
-use before Y.
+use before Y.  A cross-reference ("... in section 8") HOLDS when the heading of
+the section holding that content (``ref_quote``) carries the number.
 """
 
 from __future__ import annotations
@@ -55,4 +56,29 @@ def earlier_use(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
-RULES = {"citation": citation, "earlier_use": earlier_use}
+ROMAN = {"I": 1, "V": 5, "X": 10, "L": 50}
+
+
+def roman(numeral: str) -> int:
+    values = [ROMAN[ch] for ch in numeral]
+    return sum(-v if i + 1 < len(values) and v < values[i + 1] else v for i, v in enumerate(values))
+
+
+def section_reference(c: dict, source: str, ev: Evidence) -> Claim:
+    """A cross-reference "... in section N" against the heading of that content (``ref_quote``: "IX. ...")."""
+    numeral = c["ref_quote"].split(".")[0].strip()
+    actual = roman(numeral)
+    ok = actual == int(c["section_number"])
+    return claim_from_data(
+        c,
+        source,
+        "cross-reference",
+        rederived=f"heading '{c['ref_quote']}' (lines {c['ref_lines']}): section {numeral} = {actual}",
+        measured=None,
+        verdict=HOLDS if ok else FAILS,
+        reason=f"the paper's own heading numbers it {actual}"
+        + (", as cited." if ok else f", not {c['section_number']}."),
+    )
+
+
+RULES = {"citation": citation, "earlier_use": earlier_use, "section_reference": section_reference}

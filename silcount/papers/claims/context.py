@@ -1,4 +1,4 @@
-"""What the rules may measure with: growth exponents (any source), the stencil-step evidence, real meshes."""
+"""What the rules may measure with: growth exponents (any source, witness families too), stencil steps, real meshes."""
 
 from __future__ import annotations
 
@@ -14,9 +14,12 @@ class Evidence:
     ``exponents``: growth exponents with confidence intervals, from any number of sources (the icosphere
     sweep of :mod:`silcount.papers.growth` by default; the corpus sweep plugs in here); ``stencil``: the
     render experiments' mismatch of each literal stencil step against ray casting, or None when not
-    measured; ``real``: whether the shared real meshes (``$SILCOUNT_MESH_DIR``) are measured too.
+    measured; ``real``: whether the shared real meshes (``$SILCOUNT_MESH_DIR``) are measured too;
+    ``worst``: growth exponents on witness families, inputs built to be expensive
+    (:mod:`silcount.papers.witness`): lower bounds on the worst case, which judges an O() claim.
     """
 
     exponents: tuple[Exponent, ...]
     stencil: dict[str, dict] | None = None
     real: bool = False
+    worst: tuple[Exponent, ...] = ()

@@ -30,6 +30,8 @@ COLUMNS = (
     "measured",
     "verdict",
     "reason",
+    "table_reading",
+    "follows_from",
 )
 LABEL = {"eesd2012": "EESD 2012", "hsd2011": "HSD 2011", "stencil2011": "Stencil 2011"}
 
@@ -40,6 +42,11 @@ def _paper(c: Claim) -> str:
 
 def counts(claims: list[Claim]) -> dict[str, int]:
     return {v: sum(c.verdict == v for c in claims) for v in (HOLDS, FAILS, AMBIGUOUS)}
+
+
+def independent(claims: list[Claim]) -> int:
+    """FAILS verdicts that are their own erratum (no ``follows_from``)."""
+    return sum(c.verdict == FAILS and not c.follows_from for c in claims)
 
 
 def frame(claims: list[Claim]) -> "pd.DataFrame":
@@ -67,8 +74,17 @@ def render_text(claims: list[Claim], extra: "Profile | None" = None) -> str:
         ]
         if c.readings:
             out.append(f"    readings:  {show_readings(c.readings)}")
-        out += [f"    reason:    {c.reason}", ""]
-    out.append("summary: " + ", ".join(f"{v} {k}" for k, v in counts(claims).items()))
+        out.append(f"    reason:    {c.reason}")
+        if c.table_reading:
+            out.append(f"    tables:    {c.table_reading}")
+        if c.follows_from:
+            out.append(f"    follows:   {c.follows_from} (the same slip, restated here)")
+        out.append("")
+    out.append(
+        "summary: "
+        + ", ".join(f"{v} {k}" for k, v in counts(claims).items())
+        + f" ({independent(claims)} of the FAILS independent errata)"
+    )
     return "\n".join(out) + "\n"
 
 
@@ -90,16 +106,39 @@ def render_md(claims: list[Claim], extra: "Profile | None" = None) -> str:
         "",
         summary_markdown(claims),
         "",
-        "| # | verdict | paper | where | quote | claim | printed | re-derived | measured | readings | reason |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| # | verdict | paper | where | quote | claim | printed | re-derived | measured | readings | reason "
+        "| follows from |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in claims:
         out.append(
             f"| {c.id} | {c.verdict} | {_paper(c)} | {_md(c.where)} | {_md(c.quote)} | {_md(c.statement)} | "
             f"{_md(c.printed)} | {_md(c.rederived)} | {_md(c.measured)} | {_md(show_readings(c.readings))} | "
-            f"{_md(c.reason)} |"
+            f"{_md(c.reason)} | {_md(c.follows_from or None)} |"
         )
-    return "\n".join(out) + "\n"
+    return "\n".join(out + table_readings_markdown(claims)) + "\n"
+
+
+def table_readings_markdown(claims: list[Claim]) -> list[str]:
+    """For each AMBIGUOUS verdict, one line: which reading the papers' own tables or figures use."""
+    rows = [c for c in claims if c.verdict == AMBIGUOUS]
+    if not rows:
+        return []
+    return [
+        "",
+        "## AMBIGUOUS verdicts: the reading the papers' own tables and figures use",
+        "",
+        "Where a table or figure of the papers evaluates the statement, the reading it commits to; otherwise why "
+        "none does (the figures are missing from the text copies; only their captions and prose survive).",
+        "",
+        "| # | claim | paper | where | readings | the papers' tables and figures |",
+        "|---|---|---|---|---|---|",
+        *(
+            f"| {c.id} | {_md(c.key)} | {_paper(c)} | {_md(c.where)} | "
+            f"{_md('; '.join(r.reading for r in c.readings))} | {_md(c.table_reading or None)} |"
+            for c in rows
+        ),
+    ]
 
 
 def render_json(claims: list[Claim], extra: "Profile | None" = None) -> str:
@@ -110,14 +149,15 @@ RENDER = {"text": render_text, "md": render_md, "json": render_json}
 
 
 def summary_markdown(claims: list[Claim]) -> str:
-    """Verdict counts per paper, as a Markdown table."""
-    rows = ["| paper | claims | HOLDS | FAILS | AMBIGUOUS |", "|---|---:|---:|---:|---:|"]
-    for label in LABEL.values():
-        mine = [c for c in claims if _paper(c) == label]
+    """Verdict counts per paper, as a Markdown table; beside FAILS, how many are independent errata (the rest
+    restate another FAILS at another place: ``follows_from``)."""
+    rows = [
+        "| paper | claims | HOLDS | FAILS | of them independent errata | AMBIGUOUS |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for label, mine in [*((lb, [c for c in claims if _paper(c) == lb]) for lb in LABEL.values()), ("all", claims)]:
         n = counts(mine)
-        rows.append(f"| {label} | {len(mine)} | {n[HOLDS]} | {n[FAILS]} | {n[AMBIGUOUS]} |")
-    n = counts(claims)
-    rows.append(f"| all | {len(claims)} | {n[HOLDS]} | {n[FAILS]} | {n[AMBIGUOUS]} |")
+        rows.append(f"| {label} | {len(mine)} | {n[HOLDS]} | {n[FAILS]} | {independent(mine)} | {n[AMBIGUOUS]} |")
     return "\n".join(rows)
 
 
@@ -132,9 +172,10 @@ def findings(claims: list[Claim]) -> str:
     for c in claims:
         if c.verdict == FAILS and c.family != "attribution":
             evidence = c.rederived if not c.measured else f"{c.rederived}; measured: {c.measured}".lstrip("; ")
+            why = c.reason + (f" (follows from {c.follows_from}: the same slip, restated)" if c.follows_from else "")
             out.append(
                 f"| {_paper(c)} | {_md(c.where)} | {_md(c.statement)} | {_md(c.printed)} | {_md(evidence)} | "
-                f"{_md(c.reason)} |"
+                f"{_md(why)} |"
             )
     wrong = [c for c in claims if c.verdict == FAILS and c.family == "attribution"]
     out += [
