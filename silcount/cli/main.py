@@ -21,8 +21,14 @@ from __future__ import annotations
 
 import argparse
 import gc
+import os
 import sys
 from types import ModuleType
+
+# numba's compiled kernels are cached inside the virtual environment unless NUMBA_CACHE_DIR says otherwise
+# (the Makefile's own setting), so that those ``make install`` compiles serve every later command
+if sys.prefix != sys.base_prefix:
+    os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(sys.prefix, "cache", "numba"))
 
 from silcount.cli import audit, calibrate, claims, compare, corpus, figures, render, report, tables
 from silcount.errors import SilcountError
