@@ -327,3 +327,101 @@ def test_organisation_paragraph_numbers_the_conclusion_wrongly(by_key):
     from silcount.papers.claims.citations import roman
 
     assert [roman(x) for x in ("I", "IV", "VIII", "IX", "XIV")] == [1, 4, 8, 9, 14]
+
+
+# ---- issue 24, 'Checkable statements no claim examines' --------------------------------------------------------
+def test_hsd_en_defined_per_face_is_used_for_all_edges(by_key):
+    """(6) 'e_n is number of all edges in face f' (m per face), but the sums loop e_n x f_n and put e_n = 6n."""
+    c = by_key["hsd-en-per-face"]
+    assert c.verdict == FAILS and c.family == "mesh model"
+    assert "6n" in c.reason and "in face f" in c.reason and "e_n = 6*n" in c.rederived
+
+
+def test_eesd_not_silhouette_one_face_or_two(by_key):
+    """(7) 'intersection with one of the faces' (line 182) vs 'with two faces' (line 198): on a closed mesh a ray
+    crosses an even number of faces, so 'at least two' agrees with 'at least one'; 'exactly two' does not, where a
+    ray crosses four faces of the torus."""
+    c = by_key["eesd-not-silhouette-faces"]
+    assert c.verdict == AMBIGUOUS and [r.holds for r in c.readings] == [True, False]
+    assert "torus: 0 of" in c.readings[0].outcome and "torus: 0 of" not in c.readings[1].outcome
+    assert "4 faces" in c.measured and "1 faces" not in c.measured and c.table_reading
+
+
+def test_hsd_second_halves_of_the_comparisons(by_key):
+    """(2) TA vs HSD 'more different ... in number of Adding': 8n = 800 both, under both side readings; VnV vs
+    HSD 'more different ... comparing': 60600 vs 60100 (0.8%, decreased to 1) or 540100 (by 1)."""
+    adds = by_key["hsd-ta-adds-differ"]
+    assert adds.verdict == FAILS and all("TA 800, HSD 800" in r.outcome for r in adds.readings)
+    cmp_ = by_key["hsd-vnv-compares-differ"]
+    assert cmp_.verdict == AMBIGUOUS and [r.holds for r in cmp_.readings] == [True, False, True, True]
+    assert "VnV 60600, HSD 60100" in cmp_.readings[1].outcome and "HSD 540100" in cmp_.readings[3].outcome
+    assert "nearly equal" in cmp_.reason
+
+
+def test_gorman_ratio_cited_as_a_survey(by_key):
+    """(3) HSD cites Gorman's ratio as [14], Wang, Tang and Dong's survey."""
+    c = by_key["hsd-cite-gorman"]
+    assert c.verdict == FAILS and "does not name Gorman" in c.reason and "Wang" in c.rederived
+
+
+def test_citations_to_unrelated_entries(by_key):
+    """(4) HSD [16] motion control; HSD [15, 17] crowd rendering and VR realism for culling (AMBIGUOUS: crowd
+    rendering optimisation may treat culling, its title does not say); EESD [19] crowd simulation; EESD [6]."""
+    for key, words in (
+        ("hsd-cite-16-silhouette", "motion control"),
+        ("eesd-cite-19-shadow", "crowd simulation"),
+        ("eesd-cite-6-definition", "Code Form Game"),
+    ):
+        c = by_key[key]
+        assert c.verdict == FAILS and c.family == "attribution" and words in c.reason, key
+    c = by_key["hsd-cite-culling"]
+    assert c.verdict == AMBIGUOUS and [r.holds for r in c.readings] == [False, True] and c.table_reading
+
+
+def test_attributions_with_no_reference_entry(by_key):
+    """(5) EESD's 'Northup and Markosion' and HSD's 'Saito and Takahashi' have no entry in their paper's list."""
+    for key, n in (("eesd-northrup-markosian-entry", 22), ("hsd-saito-takahashi-entry", 17)):
+        c = by_key[key]
+        assert c.verdict == FAILS and "no entry" in c.reason and f"{n} reference entries" in c.rederived, key
+
+
+def test_ta_started_with_every_edge_in_s(by_key):
+    """(8) EESD's 'First lets have an array of all edges (S)' against HSD's 'S : Array of edges=0': TA started full
+    keeps the edges no lit face touches and appends beside the initial copies, so S is not the silhouette."""
+    c = by_key["eesd-ta-prose-start"]
+    assert c.verdict == FAILS and "literal variant" in c.reason
+    assert "icosahedron: 26 edges vs 7 silhouette edges" in c.measured
+    assert by_key["eesd-ta-intended"].verdict == "HOLDS"  # S empty, as HSD prints it
+
+
+def test_depth_subtraction_is_not_a_shadow_volume(by_key):
+    """(9) 'Subtraction of these two depth values provides shadow volume' (EESD, stencil paper): the volume is
+    extruded geometry counted in the stencil; with depth writes off in pass 2 there is one depth per pixel."""
+    for key in ("eesd-depth-subtraction", "stencil-depth-subtraction"):
+        c = by_key[key]
+        assert c.verdict == FAILS and "one value per pixel" in c.reason, key
+
+
+def test_ambient_term_defined_by_itself(by_key):
+    """(10) 'I_a = K_a I_a' holds only for K_a = 1 or I_a = 0."""
+    c = by_key["stencil-ambient-self-definition"]
+    assert c.verdict == FAILS and "K_a = 1" in c.rederived and "I_a = 0" in c.rederived
+    assert "defined by itself" in c.reason
+
+
+def test_stencil_step_sums_index_and_bounds(by_key):
+    """(11) EESD's inner sum runs j = 1..NP, NP 'the number of polygon', where pixels are meant; the stencil
+    paper's inner sum reuses the outer index i (and runs to an undefined NP')."""
+    eesd = by_key["eesd-step-sum-bounds"]
+    assert eesd.verdict == FAILS and "j = 1..NP" in eesd.rederived and "per pixel" in eesd.reason
+    assert "reuses" not in eesd.reason
+    st = by_key["stencil-step-sum-index"]
+    assert st.verdict == FAILS and "reuses the outer index i" in st.reason and "NP'" in st.rederived
+
+
+def test_vnv_intended_reading_in_the_prose(by_key):
+    """(12) 'edges with exactly one visible face' (both papers' prose) is the silhouette: HOLDS, beside the
+    literal pseudo-code's FAILS."""
+    for key, literal in (("eesd-vnv-intended", "eesd-vnv-literal"), ("hsd-vnv-intended", "hsd-vnv-literal")):
+        assert by_key[key].verdict == "HOLDS" and "0 extra, 0 missed" in by_key[key].measured, key
+        assert by_key[literal].verdict == FAILS, literal

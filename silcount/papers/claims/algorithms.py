@@ -14,7 +14,9 @@ experiments (:class:`~silcount.papers.claims.context.Evidence` ``stencil``).
 from __future__ import annotations
 
 import math
+import re
 
+import numpy as np
 import sympy as sp
 
 from silcount.detectors import detect
@@ -276,7 +278,80 @@ def _projection(c: dict, source: str, ev: Evidence) -> Claim:
     return _judged(c, source, "projection", readings, measured=measured, reason=reason)
 
 
+def _ray_crossings(mesh, light: np.ndarray, delta: float) -> np.ndarray:
+    """Per vertex v, the faces (triangles) crossed by the ray from ``light`` through v' = v (1 + delta), t > 0."""
+    tri = mesh.faces
+    a, b, c = (mesh.vertices[tri[:, i]] for i in range(3))
+    e1, e2, s = b - a, c - a, light - a
+    q = np.cross(s, e1)
+    out = []
+    for v in mesh.vertices:
+        d = v * (1 + delta) - light
+        p = np.cross(d, e2)
+        det = np.einsum("ij,ij->i", e1, p)
+        ok = np.abs(det) > 1e-14
+        inv = np.where(ok, 1 / np.where(ok, det, 1), 0)
+        u, w, t = np.einsum("ij,ij->i", s, p) * inv, (q @ d) * inv, np.einsum("ij,ij->i", e2, q) * inv
+        out.append(int(np.sum(ok & (u >= 0) & (w >= 0) & (u + w <= 1) & (t > 1e-9))))
+    return np.array(out)
+
+
+def hit_count(c: dict, source: str, ev: Evidence) -> Claim:
+    """Two statements of one not-silhouette test ("one of the faces" / "two faces") give the same verdicts: the
+    rays of the test cast on built-in closed meshes, under each reading of "two"."""
+    tests = {"at least two": lambda k: k >= 2, "exactly two": lambda k: k == 2}
+    counts = {name: _ray_crossings(builtin_mesh(name), np.array(c["light"], float), 1e-4) for name in c["meshes"]}
+    readings = []
+    for reading, two in tests.items():
+        differ = {name: int(sum((k >= 1) != two(k) for k in ks)) for name, ks in counts.items()}
+        readings.append(
+            Reading(
+                f"'two faces' as {reading}",
+                not any(differ.values()),
+                ", ".join(f"{name}: {d} of {len(counts[name])} rays judged differently" for name, d in differ.items()),
+            )
+        )
+    hist = "; ".join(
+        f"{name}: " + ", ".join(f"{k} faces x{x}" for k, x in enumerate(np.bincount(ks)) if x)
+        for name, ks in counts.items()
+    )
+    return _judged(
+        c,
+        source,
+        "algorithm",
+        readings,
+        measured=f"faces crossed per ray, light at {tuple(c['light'])}, v' = v (1 + 1e-4): {hist}",
+        reason="on a closed mesh a ray that meets the occluder crosses it an even number of times, so 'one of the "
+        "faces' and 'at least two' agree; 'exactly two' differs wherever a ray crosses four faces (the torus); "
+        "the paper does not say which it means.",
+    )
+
+
+SUM = re.compile(r"\\sum_\{(\w+)=1\}\^\{([^}]*)\}")
+
+
+def nested_sums(c: dict, source: str, ev: Evidence) -> Claim:
+    """A printed step of nested sums (its ``quote``: the outer sum over polygons, the inner over the pixels each
+    ray covers): the inner sum needs its own index and a bound that counts pixels, not ``polygon_bounds``."""
+    sums = SUM.findall(c["quote"])
+    (outer, _), (inner, inner_bound) = sums[0], sums[1]
+    problems = ([f"the inner sum reuses the outer index {inner}"] if inner == outer else []) + (
+        [f"the inner sum runs to {inner_bound}, {c['polygon_note']}"] if inner_bound in c["polygon_bounds"] else []
+    )
+    return claim_from_data(
+        c,
+        source,
+        "stencil",
+        rederived="sums: " + ", ".join(f"{i} = 1..{b}" for i, b in sums),
+        measured=None,
+        verdict=FAILS if problems else HOLDS,
+        reason=("; ".join(problems) if problems else "distinct indices, a pixel bound") + f". {c['pixel_note']}",
+    )
+
+
 RULES = {
+    "nested_sums": nested_sums,
+    "hit_count": hit_count,
     "detector_agreement": detector_agreement,
     "toggle_all": toggle_all,
     "step_list": step_list,

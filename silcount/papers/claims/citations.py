@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 
-from silcount.papers.claims.base import FAILS, HOLDS, Claim, claim_from_data
+from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, from_readings
 from silcount.papers.claims.context import Evidence
 
 
@@ -81,4 +81,61 @@ def section_reference(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
-RULES = {"citation": citation, "earlier_use": earlier_use, "section_reference": section_reference}
+def _references(source: str) -> list[str]:
+    """The paper's reference entries ("- [k] ..." lines after its REFERENCES heading)."""
+    from silcount.papers.quotes import papers_dir
+
+    text = (papers_dir() / source).read_text()
+    tail = text[text.rindex("REFERENCES") :]
+    return [line for line in tail.splitlines() if re.match(r"- \[\d+\]", line.strip())]
+
+
+def cited_topic(c: dict, source: str, ev: Evidence) -> Claim:
+    """A citation for a topic: the cited entries (``ref_quote``) are judged by their titles, once by whether a
+    title names the topic (``topic_words``) and, where ``related_words`` is given, once by whether a title names
+    a field that may cover it.  A group citation holds when one of its entries does."""
+    ref = c["ref_quote"].lower()
+    tests = [("a cited title names the topic", c["topic_words"])]
+    if "related_words" in c:
+        tests.append(("a cited title names a field that may cover it", c["related_words"]))
+    readings = [
+        Reading(name, any(w.lower() in ref for w in words), "looked for: " + ", ".join(repr(w) for w in words))
+        for name, words in tests
+    ]
+    return claim_from_data(
+        c,
+        source,
+        "attribution",
+        rederived=f"cited: {c['ref_quote'][:160]}" + ("..." if len(c["ref_quote"]) > 160 else ""),
+        measured=None,
+        verdict=from_readings(readings),
+        reason=f"{c['topic_note']} (reference list, lines {c['ref_lines']}).",
+        readings=readings if len(readings) > 1 else [],
+    )
+
+
+def no_entry(c: dict, source: str, ev: Evidence) -> Claim:
+    """An attribution by name: some entry of the paper's own reference list names one of ``names``."""
+    entries = _references(source)
+    found = [e for e in entries if any(nm.lower() in e.lower() for nm in c["names"])]
+    return claim_from_data(
+        c,
+        source,
+        "attribution",
+        rederived=f"{len(entries)} reference entries; naming {' or '.join(c['names'])}: {len(found)}",
+        measured=None,
+        verdict=HOLDS if found else FAILS,
+        reason=(
+            f"entry: {found[0][:100]}" if found else f"no entry of the reference list names {' or '.join(c['names'])}"
+        )
+        + f"; {c['names_note']}",
+    )
+
+
+RULES = {
+    "cited_topic": cited_topic,
+    "no_entry": no_entry,
+    "citation": citation,
+    "earlier_use": earlier_use,
+    "section_reference": section_reference,
+}

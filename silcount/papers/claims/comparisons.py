@@ -220,7 +220,35 @@ def equal_kinds(c: dict, source: str) -> Claim:
     )
 
 
+def differ_kinds(c: dict, source: str) -> Claim:
+    """Two models' counts of ``kind`` differ ("more different is in number of ...") at ``point``: once as any
+    difference, once as a difference beyond ``negligible`` (relative to the larger count, ``negligible_note``)."""
+    (a, b), kind, point = c["models"], c["kind"], c["point"]
+    readings = []
+    for name, (ra, rb) in _pairs_of_readings(a, b):
+        x, y = (F.evaluate(F.paper_forms(mdl, r)["convention"], **point)[kind] for mdl, r in ((a, ra), (b, rb)))
+        rel = abs(x - y) / max(abs(x), abs(y), 1)
+        shown = f"{algo(a)} {num(x)}, {algo(b)} {num(y)} (differ by {float(rel):.2%})"
+        for how, ok in (
+            ("any difference", x != y),
+            (f"a difference beyond {c['negligible']:.0%}", rel > c["negligible"]),
+        ):
+            readings.append(Reading(", ".join(r for r in (name, how) if r), bool(ok), shown))
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=show_readings(readings),
+        measured=None,
+        verdict=from_readings(readings),
+        reason=f"papers'-convention {kind} counts at n={point['n']}, m={point['m']} (Fig. 6's point); "
+        + c["negligible_note"],
+        readings=readings,
+    )
+
+
 RULES = {
+    "differ_kinds": differ_kinds,
     "fewest_asymptotic": fewest_asymptotic,
     "cycle_ratio": cycle_ratio,
     "joint_ratio": joint_ratio,

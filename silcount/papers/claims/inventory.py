@@ -330,7 +330,49 @@ def phong(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def definition_scope(c: dict, source: str, ev: Evidence) -> Claim:
+    """A count defined per face ("e_n is number of all edges in face f": ``per_face``, the paper's m) against
+    what the model's sums substitute for it."""
+    symbol = F.LOCALS[c["symbol"]]
+    used, per_face = F.substitutions(c["model"])[symbol], F.parse(c["per_face"])
+    same = sp.simplify(used - per_face) == 0
+    return claim_from_data(
+        c,
+        source,
+        "mesh model",
+        rederived=f"the sums substitute {c['symbol']} = {sp.sstr(used)}; the edges of one face are {per_face}",
+        measured=None,
+        verdict=HOLDS if same else FAILS,
+        reason=f"{c['use_note']} As defined, {c['symbol']} would be {per_face}; as used, the definition's "
+        "'in face f' is wrong."
+        if not same
+        else "the definition matches the sums.",
+    )
+
+
+def self_definition(c: dict, source: str, ev: Evidence) -> Claim:
+    """A printed definition ``lhs = rhs`` (``equation``, sympy syntax) whose defined symbol occurs on its right:
+    solved for the other symbols, what the equation forces."""
+    lhs, rhs = (sp.sympify(x) for x in c["equation"].split("="))
+    circular = lhs.free_symbols & rhs.free_symbols
+    forced = sp.solve(sp.Eq(lhs, rhs), dict=True)
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived=f"{lhs} = {rhs} holds only for "
+        + " or ".join(", ".join(f"{k} = {v}" for k, v in f.items()) for f in forced),
+        measured=None,
+        verdict=FAILS if circular else HOLDS,
+        reason=(
+            f"{', '.join(map(str, circular))} is defined by itself; {c['use_note']}" if circular else "no circularity."
+        ),
+    )
+
+
 RULES = {
+    "self_definition": self_definition,
+    "definition_scope": definition_scope,
     "kernel_cost": kernel_cost,
     "mesh_ratio": mesh_ratio,
     "n_meaning": n_meaning,
