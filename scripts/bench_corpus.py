@@ -37,7 +37,6 @@ def corpus_dir(given: str | None) -> Path:
 
 def one(folder: Path, workers: int, levels: list[int], with_time: bool) -> dict:
     """One sweep in this process; wall time, meshes, failures, peak RSS of the client and of the largest worker."""
-    sys.path.insert(0, str(ROOT))
     from silcount.study import corpus
 
     t0 = time.perf_counter()

@@ -125,8 +125,10 @@ def section_literature(mesh: silcount.Mesh) -> None:
         peak[name] = build_peak(mesh, scheme, hierarchy.LEAF_SIZE, hierarchy.FANOUT)
 
     # ---- queries: each light timed for the reference and both trees back to back ----
-    ref_t = {k: [] for k in kinds}
-    q = {(name, k): {"t": [], "frac": [], "same": []} for name in SCHEMES for k in kinds}
+    ref_t: dict[str, list[float]] = {k: [] for k in kinds}
+    q: dict[tuple[str, str], dict[str, list[float]]] = {
+        (name, k): {"t": [], "frac": [], "same": []} for name in SCHEMES for k in kinds
+    }
     for k, ls_k in kinds.items():
         for L, ref in zip(ls_k, ref_ids[k], strict=True):
             ref_t[k].append(best_time(lambda L=L: adjacency.silhouette_edge_ids(mesh, L), REPEAT))
@@ -174,8 +176,8 @@ def section_literature(mesh: silcount.Mesh) -> None:
     det = {}
     for name in SCHEMES:  # the full detector (its own cached default tree), for completeness
         silcount.detect(mesh, ls[0], name)
-        one = [best_time(lambda L=L, n=name: silcount.detect(mesh, L, n).edge_ids, 3) for L in ls]
-        det[name] = float(np.median(one))
+        per_light = [best_time(lambda L=L, n=name: silcount.detect(mesh, L, n).edge_ids, 3) for L in ls]
+        det[name] = float(np.median(per_light))
     print(
         "silcount.detect() per light (cached tree, all 16 lights): "
         + ", ".join(f"{n} {_ms(t)}" for n, t in det.items())

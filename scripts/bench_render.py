@@ -10,11 +10,11 @@
    part, and on ``numba.get_num_threads()`` parts (the default).
 1b. The rasterisation alone (depth pass, stencil pass) on cow_and_cubes, wall
    and CPU time, the three rasterisers interleaved run by run.
-1c. ``--whole-process``: ``silcount render cow_and_cubes.json --method zfail``
-   as a whole process, this tree against commit 318ab63 (``git archive``
-   into a temporary folder, its own numba cache), interleaved, after one
-   warm-up each (numba caches filled), plus where the time goes: Python with
-   numpy and numba imported, ``silcount.cli.main`` imported, the first frame
+1c. ``--whole-process`` (scripts/bench_render_process.py): ``silcount render
+   cow_and_cubes.json --method zfail`` as a whole process, this tree against
+   commit 318ab63 (``git archive`` into a temporary folder, its own numba
+   cache), interleaved, after one warm-up each (numba caches filled), plus
+   where the time goes: Python with numpy and numba imported, ``silcount.cli.main`` imported, the first frame
    (numba caches loaded, threads started) and a second frame.  Python's
    bytecode is cached (``PYTHONDONTWRITEBYTECODE`` dropped, the cache in a
    temporary folder), as it is after an install.  With ``--llvmpipe``
@@ -45,31 +45,28 @@ import contextlib
 import functools
 import json
 import os
-import statistics
-import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
+import numba
+import numpy as np
+from bench_render_process import BASELINE_COMMIT, whole_process
 
-import numba  # noqa: E402
-import numpy as np  # noqa: E402
-
-import silcount  # noqa: E402
-from silcount.cli.render import shared_scene_dir  # noqa: E402
-from silcount.detectors import DETECTORS  # noqa: E402
-from silcount.detectors.plain import plain_edge_ids  # noqa: E402
-from silcount.mesh import shapes  # noqa: E402
-from silcount.render import stencil  # noqa: E402
-from silcount.render.baseline import rasterize_serial  # noqa: E402
-from silcount.render.camera import Camera  # noqa: E402
-from silcount.render.masks import compare_masks, read_mask  # noqa: E402
-from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip  # noqa: E402
-from silcount.render.scene import load_scene  # noqa: E402
-from silcount.render.stencil import render_stencil  # noqa: E402
+import silcount
+from silcount.cli.render import shared_scene_dir
+from silcount.detectors import DETECTORS
+from silcount.detectors.plain import plain_edge_ids
+from silcount.mesh import shapes
+from silcount.render import stencil
+from silcount.render.baseline import rasterize_serial
+from silcount.render.camera import Camera
+from silcount.render.masks import compare_masks
+from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.scene import load_scene
+from silcount.render.stencil import render_stencil
 
 PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EESD 2012 Sec. 6: TA, VnV, EESD
     "hsd": ("HSD paper", 75.53),
@@ -80,10 +77,7 @@ PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EES
 }
 
 
-BASELINE_COMMIT = "318ab63"
-
-
-def rasterisers() -> dict[str, object]:
+def rasterisers() -> dict[str, Callable[..., object]]:
     """The three rasterisers compared, by label."""
     return {
         "baseline": rasterize_serial,
@@ -126,7 +120,9 @@ def best_detection(mesh, light, detector: str, repeat: int) -> float:
 
 
 def scene_file(tmp: Path, name: str, objects: list[dict], eye, target, light) -> Path:
-    floor = shared_scene_dir() / "meshes" / "floor.obj"
+    shared = shared_scene_dir()
+    assert shared is not None, "main() checks for the shared scenes first"
+    floor = shared / "meshes" / "floor.obj"
     doc = {
         "spec": "silcount-scene/1",
         "resolution": [512, 512],
@@ -255,90 +251,6 @@ def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs
                 f"{cmp.mismatched} px differ, {cmp.far} far from an edge"
             )
         print(f"  ({gl.renderer})")
-
-
-def _timed(cmd: list[str], env: dict[str, str]) -> float:
-    t0 = time.perf_counter()
-    subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - t0
-
-
-STAGES = """
-import time; t0 = time.perf_counter()
-import numpy, numba; t1 = time.perf_counter()
-import silcount.cli.main; t2 = time.perf_counter()
-from silcount.render.methods import render_method
-from silcount.render.scene import load_scene
-scene = load_scene({scene!r}); t3 = time.perf_counter()
-render_method(scene, "zfail"); t4 = time.perf_counter()
-render_method(scene, "zfail"); t5 = time.perf_counter()
-print(t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4)
-"""
-
-
-def whole_process(scene: Path, runs: int, llvmpipe: bool) -> None:
-    """``silcount render`` as whole processes, this tree against :data:`BASELINE_COMMIT` (and llvmpipe), interleaved."""
-    with tempfile.TemporaryDirectory() as td:
-        old = Path(td) / "tree"
-        old.mkdir()
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", BASELINE_COMMIT], capture_output=True, check=True)
-        subprocess.run(["tar", "-x", "-C", str(old)], input=archive.stdout, check=True)
-        trees = {"this tree": (REPO, os.environ.get("NUMBA_CACHE_DIR", "")), BASELINE_COMMIT: (old, f"{td}/numba")}
-        out = Path(td) / "mask.png"
-        times: dict[str, list[float]] = {k: [] for k in [*trees, "llvmpipe"]}
-        stages: dict[str, list[list[float]]] = {k: [] for k in times}
-        if llvmpipe:
-            from gl_stencil import bake
-
-            baked = Path(td) / "scene.npz"
-            bake(load_scene(scene), str(baked))
-            gl_cmd = [sys.executable, str(REPO / "scripts" / "gl_stencil.py"), str(baked), f"{td}/gl.png", "zfail"]
-        base_env = dict(os.environ, PYTHONPYCACHEPREFIX=f"{td}/pycache")  # bytecode cached, as after an install
-        base_env.pop("PYTHONDONTWRITEBYTECODE", None)
-        for i in range(runs + 1):  # run 0 fills each tree's numba cache and the bytecode cache
-            for label, (tree, cache) in trees.items():
-                env = dict(base_env, PYTHONPATH=str(tree))
-                env.pop("NUMBA_CACHE_DIR") if not cache else env.update(NUMBA_CACHE_DIR=cache)
-                cmd = [sys.executable, "-m", "silcount.cli.main", "render", str(scene), "--method", "zfail"]
-                t = _timed(cmd + ["--out", str(out)], env)
-                run = subprocess.run(
-                    [sys.executable, "-c", STAGES.format(scene=str(scene))], env=env, capture_output=True, check=True
-                )
-                if i:
-                    times[label].append(t)
-                    stages[label].append([float(x) for x in run.stdout.split()])
-            if llvmpipe:
-                t0 = time.perf_counter()
-                run = subprocess.run(gl_cmd, env=base_env, capture_output=True, check=True)
-                if i:
-                    times["llvmpipe"].append(time.perf_counter() - t0)
-                    stages["llvmpipe"].append([float(x) for x in run.stdout.split()])
-        print(f"\n# Whole process `silcount render cow_and_cubes.json --method zfail`, {runs} interleaved runs, s")
-        print(
-            f"{'tree':<10} {'best':>6} {'median':>7}   stages (best): numpy+numba, silcount.cli.main, scene, "
-            "first frame, second frame"
-        )
-        for label in trees:
-            st = [min(col) for col in zip(*stages[label])]
-            print(
-                f"{label:<10} {min(times[label]):6.2f} {statistics.median(times[label]):7.2f}   "
-                + ", ".join(f"{x:.3f}" for x in st)
-            )
-        print(
-            f"ratio this tree / {BASELINE_COMMIT} (best): {min(times['this tree']) / min(times[BASELINE_COMMIT]):.2f}"
-        )
-        if llvmpipe:
-            st = [min(col) for col in zip(*stages["llvmpipe"])]
-            cmp = compare_masks(read_mask(out), read_mask(f"{td}/gl.png"))
-            print(
-                f"{'llvmpipe':<10} {min(times['llvmpipe']):6.2f} {statistics.median(times['llvmpipe']):7.2f}   "
-                f"stages (best): numpy+PIL+baked scene {st[0]:.3f}, GL context+scene upload {st[1]:.3f}, "
-                f"silhouette+volume (numpy)+frame+read-back {st[2]:.3f}, PNG {st[3]:.3f}"
-            )
-            print(
-                f"ratio this tree / llvmpipe (best): {min(times['this tree']) / min(times['llvmpipe']):.2f} "
-                f"(target: within 3x); masks: {cmp.describe()}"
-            )
 
 
 def main() -> int:

@@ -46,7 +46,8 @@ class GLStencil:
         from OpenGL import GL
 
         self.gl = GL
-        self.ctx = moderngl.create_standalone_context(backend="egl")  # kept alive: it owns the context
+        # kept alive: it owns the context; moderngl types its **kwargs oddly (dict[str, Any] each)
+        self.ctx = moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
         self.renderer = self.ctx.info["GL_RENDERER"]
         self.width, self.height = width, height
         self.fbo = GL.glGenFramebuffers(1)

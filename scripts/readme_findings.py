@@ -19,8 +19,10 @@ START, END = "<!-- findings:start -->", "<!-- findings:end -->"
 def block(findings: str) -> str:
     """The README's block: the verdict counts, then every FAILS under a fold."""
     counts, _, rest = findings.partition("\n\n")
-    return (f"{START}\n{counts.strip()}\n\n<details><summary>Every FAILS verdict, with its numbers "
-            f"(generated from the claims)</summary>\n\n{rest.strip()}\n\n</details>\n{END}")
+    return (
+        f"{START}\n{counts.strip()}\n\n<details><summary>Every FAILS verdict, with its numbers "
+        f"(generated from the claims)</summary>\n\n{rest.strip()}\n\n</details>\n{END}"
+    )
 
 
 def splice(readme: str, findings: str) -> str:

@@ -7,6 +7,8 @@ contract and documented in the README.
 
 from __future__ import annotations
 
+from collections.abc import Collection
+
 
 class SilcountError(Exception):
     """Base class. ``exit_code`` is what the CLI exits with."""
@@ -30,3 +32,20 @@ class BadArgument(SilcountError):
     """A command-line or API argument is malformed (a light on a face plane, a zero direction, ...)."""
 
     exit_code = 2
+
+
+def check_choice(
+    what: str,
+    value: object,
+    choices: Collection[str],
+    *,
+    prefix: str = "",
+    error: type[Exception] = BadArgument,
+) -> None:
+    """Raise ``error`` (:class:`BadArgument` unless told) if ``value`` is not one of ``choices``.
+
+    The message is ``{prefix}unknown {what} {value!r}; choose from a, b, c``, the choices in their order
+    (a dict's keys for a dict).
+    """
+    if value not in choices:
+        raise error(f"{prefix}unknown {what} {value!r}; choose from {', '.join(choices)}")

@@ -140,6 +140,18 @@ def test_modules_are_small(name):
     assert lines <= MAX_LINES, f"{name} has {lines} lines (at most {MAX_LINES})"
 
 
+SCRIPTS = PKG.parent / "scripts"
+
+
+@pytest.mark.parametrize("path", sorted(SCRIPTS.glob("*.py")), ids=lambda p: p.name)
+def test_scripts_are_small_and_import_the_installed_package(path):
+    """The package's size rule holds for scripts/ too, and no script edits ``sys.path`` to find silcount."""
+    text = path.read_text()
+    lines = len(text.splitlines())
+    assert lines <= MAX_LINES, f"scripts/{path.name} has {lines} lines (at most {MAX_LINES})"
+    assert "sys.path.insert" not in text, f"scripts/{path.name} edits sys.path: import silcount as installed"
+
+
 HEAVY = ("sympy", "trimesh", "matplotlib")
 
 

@@ -20,7 +20,7 @@ from silcount.audit.costs import cycle_profile
 from silcount.audit.formats import FORMATS, render, render_json, write_atomic
 from silcount.audit.run import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
 from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument
+from silcount.errors import BadArgument, check_choice
 from silcount.mesh import shapes
 from silcount.mesh.io import load_mesh, parse_size
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -129,8 +129,7 @@ def settings_from(args: argparse.Namespace) -> AuditSettings:
     else:
         chosen = tuple(d.strip() for d in args.detectors.split(",") if d.strip())
         for d in chosen:
-            if d not in DETECTORS:
-                raise BadArgument(f"--detectors: unknown detector {d!r}; choose from {', '.join(DETECTORS)}")
+            check_choice("detector", d, DETECTORS, prefix="--detectors: ")
         if not chosen:
             raise BadArgument("--detectors: the list is empty")
     variants = ("intended", "literal") if args.variant == "both" else (args.variant,)

@@ -32,7 +32,7 @@ from collections.abc import Callable, Sequence
 
 from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
 from silcount.detectors.base import ENGINES, VARIANTS, Silhouette
-from silcount.errors import BadArgument
+from silcount.errors import check_choice
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
@@ -75,12 +75,9 @@ def detect(
 
 
 def _check(name: str, variant: str, engine: str) -> None:
-    if name not in DETECTORS:
-        raise BadArgument(f"unknown detector {name!r}; choose from {', '.join(DETECTORS)}")
-    if variant not in VARIANTS:
-        raise BadArgument(f"unknown variant {variant!r}; choose from {', '.join(VARIANTS)}")
-    if engine not in ENGINES:
-        raise BadArgument(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
+    check_choice("detector", name, DETECTORS)
+    check_choice("variant", variant, VARIANTS)
+    check_choice("engine", engine, ENGINES)
 
 
 def detect_many(

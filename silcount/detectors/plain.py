@@ -42,6 +42,7 @@ from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.detectors.eesd import outward_points_and_rays
 from silcount.detectors.hierarchy import Hierarchy, KeyScheme
 from silcount.detectors.hierarchy_query import query_fast, tree_for
+from silcount.errors import check_choice
 from silcount.mesh.coplanar import merge
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
@@ -166,6 +167,7 @@ def _ids_of_keys(mesh: Mesh, keys: np.ndarray) -> np.ndarray:
 
 def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
     """Run detector ``name``'s own loops (``intended`` variant) without counting; ascending edge ids."""
+    check_choice("plain kernel", name, PLAIN + QUERIED, error=ValueError)
     V = mesh.n_vertices
     if name in SCHEMES:
         tree = tree_of(mesh, name)
@@ -203,7 +205,7 @@ def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
             mesh.face_start,
             mesh.corners,
         )
-    raise ValueError(f"no plain kernel for {name!r}; choose from {', '.join(PLAIN + QUERIED)}")
+    raise AssertionError(f"{name!r} is in PLAIN + QUERIED but has no plain kernel here")
 
 
 def tree_of(mesh: Mesh, name: str) -> Hierarchy:

@@ -60,6 +60,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
+from silcount.errors import check_choice
 from silcount.mesh.coplanar_ints import common_shift, coplanar_pairs_ints, mask_ids, normals_agree_ints
 from silcount.mesh.exact import ERRBOUND_A, exact_range_ok, normals_dot_sign, orient3d_sign
 from silcount.mesh.model import Mesh
@@ -309,8 +310,7 @@ _CACHE: "weakref.WeakKeyDictionary[Mesh, dict[str, Merge]]" = weakref.WeakKeyDic
 
 def merge(mesh: Mesh, criterion: str = "tight") -> Merge:
     """The polygons of ``mesh`` under ``criterion`` (``tight`` or ``facets``), cached per mesh."""
-    if criterion not in CRITERIA:
-        raise ValueError(f"unknown merge criterion {criterion!r}; choose from {', '.join(CRITERIA)}")
+    check_choice("merge criterion", criterion, CRITERIA, error=ValueError)
     per_mesh = _CACHE.setdefault(mesh, {})
     if criterion not in per_mesh:
         per_mesh[criterion] = _build(mesh, criterion)

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from silcount.errors import BadArgument
+from silcount.errors import check_choice
 from silcount.mesh.model import Mesh, from_polygons
 
 
@@ -101,7 +101,5 @@ BUILTIN: dict[str, Callable[[], Mesh]] = {
 
 def builtin_mesh(name: str) -> Mesh:
     """One of :data:`BUILTIN` by name."""
-    try:
-        return BUILTIN[name]()
-    except KeyError:
-        raise BadArgument(f"unknown built-in mesh {name!r}; choose from {', '.join(BUILTIN)}") from None
+    check_choice("built-in mesh", name, BUILTIN)
+    return BUILTIN[name]()

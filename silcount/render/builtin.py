@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.atomic import write_text
-from silcount.errors import BadArgument
+from silcount.errors import check_choice
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh, from_polygons
 from silcount.render.scene import SPEC, Scene, SceneObject
@@ -75,8 +75,7 @@ BUILTIN = {"overlapping_shadows": _overlapping_shadows, "ledge": _ledge}
 
 
 def _parts(name: str):
-    if name not in BUILTIN:
-        raise BadArgument(f"unknown built-in scene {name!r}; choose from {', '.join(BUILTIN)}")
+    check_choice("built-in scene", name, BUILTIN)
     return BUILTIN[name]()
 
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from silcount.errors import BadArgument
+from silcount.errors import check_choice
 from silcount.render.camera import Camera
 from silcount.render.planar import planar_mask
 from silcount.render.raycast import raycast
@@ -43,8 +43,7 @@ def render_method(
     shadow_test: str = "nonzero",
     volume: str = "infinite",
 ) -> Rendered:
-    if method not in METHODS:
-        raise BadArgument(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    check_choice("method", method, METHODS)
     camera = Camera.of(scene)
     if method == "raycast":
         rc = raycast(scene)

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from silcount.errors import BadArgument
+from silcount.errors import BadArgument, check_choice
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, homogeneous, new_buffers, rasterize, to_clip
@@ -42,8 +42,7 @@ __all__ = ["VARIANTS", "floor_plane", "planar_mask", "shadow_matrix"]
 
 def shadow_matrix(normal: np.ndarray, offset: float, light: Light, variant: str = "intended") -> np.ndarray:
     """4x4 projection onto the plane ``normal . X = offset`` from ``light`` (see module docstring)."""
-    if variant not in VARIANTS:
-        raise BadArgument(f"unknown planar variant {variant!r}; choose from {', '.join(VARIANTS)}")
+    check_choice("planar variant", variant, VARIANTS)
     N, D = np.asarray(normal, dtype=np.float64), float(offset)
     if isinstance(light, DirectionalLight):
         l = np.append(np.asarray(light.direction), 0.0)

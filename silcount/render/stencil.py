@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from silcount.detectors import detect
-from silcount.errors import BadArgument
+from silcount.errors import check_choice
 from silcount.mesh.lights import DirectionalLight
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
@@ -66,11 +66,10 @@ def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarra
     a closed volume never leaves; ``!(Stencil % 2)`` is ``parity`` again.  Taking the condition as "in
     shadow" rather than "lit" would shade every lit pixel (stencil 0 is even), so it is not a reading.
     """
+    check_choice("shadow test", test, SHADOW_TESTS)
     if test == "nonzero":
         return stencil != 0
-    if test == "parity":
-        return (stencil & 1) != 0
-    raise BadArgument(f"unknown shadow test {test!r}; choose from {', '.join(SHADOW_TESTS)}")
+    return (stencil & 1) != 0  # parity
 
 
 @dataclass
@@ -175,12 +174,9 @@ def render_stencil(
     ``shadow_test``: :func:`shadow_from_stencil`.  ``volume``: ``infinite`` (extruded to infinity) or
     ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`).
     """
-    if method not in METHODS:
-        raise BadArgument(f"unknown stencil method {method!r}; choose from {', '.join(METHODS)}")
-    if shadow_test not in SHADOW_TESTS:
-        raise BadArgument(f"unknown shadow test {shadow_test!r}; choose from {', '.join(SHADOW_TESTS)}")
-    if volume not in VOLUMES:
-        raise BadArgument(f"unknown volume {volume!r}; choose from {', '.join(VOLUMES)}")
+    check_choice("stencil method", method, METHODS)
+    check_choice("shadow test", shadow_test, SHADOW_TESTS)
+    check_choice("volume", volume, VOLUMES)
     receiver: tuple[np.ndarray, float] | None = None
     if volume == "truncated":
         _, normal, offset = floor_plane(scene)

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, UnreadableInput
+from silcount.errors import BadArgument, UnreadableInput, check_choice
 from silcount.mesh.io import FORMATS
 from silcount.study.cache import Cache, default_cache_dir
 from silcount.study.schedule import Item, check_scheduler, run_items
@@ -82,9 +82,10 @@ def _settings(lights, light_kind, seed, detectors, variant, timing, time_lights)
     if light_kind not in LIGHT_KINDS:
         raise BadArgument(f"--light-kind {light_kind!r}: choose {', '.join(LIGHT_KINDS)}")
     names = tuple(DETECTORS if detectors is None else detectors)
-    unknown = [d for d in names if d not in DETECTORS]
-    if unknown or not names:
-        raise BadArgument(f"unknown detectors {', '.join(unknown) or '(none)'}; choose from {', '.join(DETECTORS)}")
+    if not names:
+        raise BadArgument("the detector list is empty")
+    for d in names:
+        check_choice("detector", d, DETECTORS)
     variants = {"intended": ("intended",), "literal": ("literal",), "both": ("intended", "literal")}.get(variant)
     if variants is None:
         raise BadArgument(f"--variant {variant!r}: choose intended, literal or both")
