@@ -4,6 +4,11 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
+# The shared inputs beside the repository (read-only; override any of them in the environment).
+export SILCOUNT_SCENE_DIR ?= $(abspath $(CURDIR)/../shared/scenes)
+export SILCOUNT_CORPUS_DIR ?= $(abspath $(CURDIR)/../shared/corpus)
+export SILCOUNT_PAPERS_DIR ?= $(abspath $(CURDIR)/../shared/papers)
+
 # Nothing is written into the source tree: numba's cache and Python's bytecode go under .venv.
 export NUMBA_CACHE_DIR := $(CURDIR)/$(VENV)/cache/numba
 export PYTHONPYCACHEPREFIX := $(CURDIR)/$(VENV)/cache/pycache
@@ -30,11 +35,11 @@ report: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
-## ruff (lint and format check) and mypy on the package: zero findings.
+## ruff (lint and format check) and mypy on the package and the scripts: zero findings.
 lint: $(STAMP)
 	$(BIN)/ruff check silcount tests scripts
-	$(BIN)/ruff format --check silcount
-	$(BIN)/mypy silcount
+	$(BIN)/ruff format --check silcount scripts
+	$(BIN)/mypy silcount scripts
 
 ## Mutation testing (slow, not part of CI): mutmut 2 over the detectors, the counting layer (arithmetic, the
 ## cost-model loader paper.py, cycles) and the re-derivation (papers/formulas.py), each module judged by its own

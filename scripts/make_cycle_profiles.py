@@ -1,4 +1,4 @@
-"""Write models/cycles/<cpu>-llvm-mca.toml from llvm-mca's scheduling models (issue 14).
+"""Write silcount/models/cycles/<cpu>-llvm-mca.toml from llvm-mca's scheduling models (issue 14).
 
 For each CPU (default: skylake, znver3 and LLVM's own name for this machine,
 the "Host CPU" line of ``llvm-mca --version``), ask llvm-mca for the latency
@@ -7,7 +7,7 @@ and reciprocal throughput of the instruction behind each operation kind
 ``llvm_mcpu``, ``llvm_version``, and ``[latency]`` / ``[rthroughput]`` tables
 of ``kind = {value = ..., instruction = "..."}``.
 
-    python scripts/make_cycle_profiles.py [--out models/cycles] [CPU ...]
+    python scripts/make_cycle_profiles.py [--out silcount/models/cycles] [CPU ...]
 
 Prints one line per CPU with its numbers.  Needs llvm-mca (Debian: ``apt-get install llvm``).
 """
@@ -66,7 +66,8 @@ def render(cpu: str, llvm_version: str, tables: dict[str, dict[str, tuple[float,
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cpus", nargs="*", help="LLVM -mcpu names (default: skylake, znver3 and this machine's)")
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent.parent / "models" / "cycles")
+    default_out = Path(__file__).resolve().parent.parent / "silcount" / "models" / "cycles"
+    parser.add_argument("--out", type=Path, default=default_out)
     args = parser.parse_args(argv)
     exe = mca.executable()
     if exe is None:

@@ -333,7 +333,7 @@ def test_near_duplicate_vertices_are_reported_and_weldable(tmp_path):
 
 
 # ---- every number of the committed audits, from an independent source -------------------------------
-# Per-step costs as printed in the papers (the `cost` lines of models/ quote them): EESD 2012 Sec. 5.1 (TA),
+# Per-step costs as printed in the papers (the `cost` lines of silcount/models/ quote them): EESD 2012 Sec. 5.1 (TA),
 # 5.2 (VnV), 5.3 (EESD); HSD 2011 Sec. 6.3 (HSD); the reference's own annotation (silcount).
 VIS = {"add": 8, "mul": 10, "cmp": 1, "read": 8}  # "3+3+2" A, "3+4+3" M, 1 C, 8 R
 
@@ -361,7 +361,8 @@ PRINTED = {
     "eesd": lambda n, m: {"mul": 18 * n * n + 18 * n, "add": 18 * n * n + 36 * n, "cmp": 6 * n * n, "read": 12 * n,
                           "write": 12 * n},
 }  # fmt: skip
-# EESD 2012 Sec. 6, plus the labelled extension for what the paper does not weigh (models/cycles/paper-extension.toml):
+# EESD 2012 Sec. 6, plus the labelled extension for what the paper does not weigh
+# (silcount/models/cycles/paper-extension.toml):
 # div = 4 x 14/4 and sqrt = 4 x 18/4, the paper's mul weight times Skylake's divsd/mulsd and sqrtsd/mulsd latencies
 CYCLES = {"mul": 4, "add": 2, "cmp": 3, "read": 1, "write": 2, "div": 14, "sqrt": 18}
 
@@ -397,8 +398,8 @@ def test_committed_audit_numbers_have_independent_expectations(name):
             assert (d["missed_edges"], d["extra_edges"]) == (len(rule - got), len(got - rule)), key
             e_n = naive.paper_params["e_n"]
             if det in LITERATURE:
-                # skipped: no source prints per-step costs for gaussmap or cones (models/silcount-<name>.toml is
-                # silcount's own annotation, the very costs under test), so their paper tally has no second source;
+                # skipped: no source prints per-step costs for gaussmap or cones (silcount/models/silcount-<name>.toml
+                # is silcount's own annotation, the very costs under test), so their paper tally has no second source;
                 # their steps and true tallies are checked above against the naive engine
                 paper = {k: d["tallies"]["paper"].get(k, 0) for k in KINDS}
             else:

@@ -61,8 +61,8 @@ def test_every_claim_is_located_quoted_and_judged(all_claims):
 
 def test_every_quote_occurs_in_its_paper_at_its_lines(all_claims):
     root = papers_dir()
-    if not root.is_dir():
-        pytest.skip(f"paper texts not found at {root} (set SILCOUNT_PAPERS_DIR)")
+    if root is None or not root.is_dir():
+        pytest.skip(f"paper texts not found ({'SILCOUNT_PAPERS_DIR is unset' if root is None else root})")
     texts = {name: (root / name).read_text() for name in base.PAPER_FILE.values()}
     bad = [f"{c.key}: lines {c.lines}" for c in all_claims if not check(texts[c.paper], c.quote, c.lines)]
     assert not bad, bad
@@ -189,9 +189,9 @@ def _clear_caches():
 
 
 def test_verdict_follows_the_models(tmp_path, monkeypatch, by_key):
-    """Correct the TA Read cell of EESD Table 1 in a copy of models/: its verdict must follow."""
+    """Correct the TA Read cell of EESD Table 1 in a copy of silcount/models/: its verdict must follow."""
     copy = tmp_path / "models"
-    shutil.copytree(ROOT / "models", copy)
+    shutil.copytree(ROOT / "silcount" / "models", copy)
     path = copy / "eesd2012-paper.toml"
     path.write_text(path.read_text().replace("read = 3110", "read = 3130"))
     monkeypatch.setenv("SILCOUNT_MODELS_DIR", str(copy))

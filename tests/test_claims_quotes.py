@@ -1,4 +1,4 @@
-"""Every quote stored in models/ occurs in its paper, over its stored lines (whitespace-insensitive).
+"""Every quote stored in silcount/models/ occurs in its paper, over its stored lines (whitespace-insensitive).
 
 Checks the data without building the claims (fast): the claims files (with the
 captions and rows their ``table_reading`` cites), the table rows, the per-line
@@ -21,7 +21,7 @@ def _quotes():
         data = models.load(name)
         for c in data["claims"]:
             yield f"{name}:{c['id']}", c.get("paper", data["source_file"]), c["quote"], c["lines"]
-            for prefix in ("ref_", "earlier_", "table_"):
+            for prefix in ("ref_", "earlier_", "table_", "entries_"):
                 if f"{prefix}quote" in c:
                     yield f"{name}:{c['id']}:{prefix}", data["source_file"], c[f"{prefix}quote"], c[f"{prefix}lines"]
     for name in ("eesd2012-paper",):
@@ -45,6 +45,6 @@ QUOTES = list(_quotes())
 @pytest.mark.parametrize("where, paper, quote, lines", QUOTES, ids=[q[0] for q in QUOTES])
 def test_quote_is_in_the_paper(where, paper, quote, lines):
     root = papers_dir()
-    if not root.is_dir():
-        pytest.skip(f"paper texts not found at {root} (set SILCOUNT_PAPERS_DIR)")
+    if root is None or not root.is_dir():
+        pytest.skip(f"paper texts not found ({'SILCOUNT_PAPERS_DIR is unset' if root is None else root})")
     assert check((root / paper).read_text(), quote, lines), f"{where}: not at lines {lines}"

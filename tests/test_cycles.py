@@ -121,7 +121,7 @@ def test_cli_fails_naming_the_missing_kind(tmp_path, capsys):
 
 def test_measured_profiles_are_in_nanoseconds_with_methods():
     measured = cycles.measured_profiles()
-    assert measured, "no committed models/cycles/measured-*.toml"
+    assert measured, "no committed silcount/models/cycles/measured-*.toml"
     for name, prof in measured.items():
         assert prof.unit == "ns" and name.split("-measured-")[1] in ("latency", "throughput", "latency-dram")
         assert all(prof.sources[k] for k in ALL)

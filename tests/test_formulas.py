@@ -30,7 +30,7 @@ MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011
 
 
 def _cost(model: str, step: str) -> dict[str, int]:
-    """A step's annotated cost at numeric e_n (read from models/: the per-line costs are data)."""
+    """A step's annotated cost at numeric e_n (read from silcount/models/: the per-line costs are data)."""
     return {k: v for k, v in models.load(model)["steps"][step].get("cost", {}).items()}
 
 

@@ -14,7 +14,7 @@ import silcount
 # (a directional light skips L - p0: 11); muls: cross 6 + dot 3 = 9; one compare with 0.
 VIS_POINT = {"add": 14, "mul": 9, "cmp": 1, "read": 16}
 VIS_DIRECTIONAL = {"add": 11, "mul": 9, "cmp": 1, "read": 16}
-# The papers' annotation of the same step (models/eesd2012-vnv.toml, Sec. 5.2): 8A + 10M + 1C + 8R.
+# The papers' annotation of the same step (silcount/models/eesd2012-vnv.toml, Sec. 5.2): 8A + 10M + 1C + 8R.
 
 
 def tally(*parts):

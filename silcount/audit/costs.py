@@ -4,7 +4,7 @@ Cycle profiles come from :mod:`silcount.counting.cycles` (built-in names or a
 user's TOML file with a ``[weights]`` table).
 
 The printed closed forms are the last printed line of each model's
-``[closed_form]`` in ``models/``, through :mod:`silcount.papers.formulas`,
+``[closed_form]`` in ``silcount/models/``, through :mod:`silcount.papers.formulas`,
 evaluated at the mesh's ``n`` (faces; HSD: merged polygons) and ``m`` (mean sides).
 """
 

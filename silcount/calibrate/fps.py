@@ -5,7 +5,7 @@ The papers report frame rates on "a PC with NVIDIA Graphic Hardware and P IV
 computer"): TA 69.93, VnV 65.51, EESD 73.16 FPS (EESD Sec. 6) and HSD 75.53
 FPS on the bunny, whose Table 1 counts 2207 edges (HSD Sec. VIII).  Here the
 paper model's own printed closed form (the last line of each model's
-``[closed_form]`` in ``models/``) is weighted by the paper's cycles (EESD
+``[closed_form]`` in ``silcount/models/``) is weighted by the paper's cycles (EESD
 Sec. 6: Mult 4, Add 2, Compare 3, Read 1, Write 2; the closed forms have no
 division or root) and divided by 2.8e9 cycles/s: a detection time per frame,
 set beside the frame time 1/FPS.
@@ -32,7 +32,7 @@ SYMBOL = {"A": "add", "M": "mul", "C": "cmp", "R": "read", "W": "write"}
 
 
 def _reported() -> list[tuple[str, str, float]]:
-    """``(source, model, FPS)`` as printed, read from the papers' claims in ``models/``."""
+    """``(source, model, FPS)`` as printed, read from the papers' claims in ``silcount/models/``."""
     out = []
     for claim in models.load("eesd2012-claims")["claims"]:
         if claim["id"] == "eesd-fps-frame":

@@ -12,7 +12,7 @@ they run):
 
 ``llvm-mca`` prints, per instruction, the latency and reciprocal throughput of
 its scheduling model for ``-mcpu``; :func:`query` runs it on one AT&T line.
-``scripts/make_cycle_profiles.py`` writes ``models/cycles/<cpu>-llvm-mca.toml``
+``scripts/make_cycle_profiles.py`` writes ``silcount/models/cycles/<cpu>-llvm-mca.toml``
 from these answers and ``tests/test_cycles_mca.py`` reruns every entry.
 LLVM has no scheduling model for the papers' Pentium IV (``-mcpu=pentium4``:
 "unable to find instruction-level scheduling information"), so no profile

@@ -1,7 +1,7 @@
 """The calibration as one computation: timings + tallies -> predictions, summaries, FPS table, ranking evidence.
 
 Timing is noisy, so what is committed is a *measurement*: the timings of one
-run (``models/cycles/timings-<cpu model>.csv``, written by ``silcount calibrate
+run (``silcount/models/cycles/timings-<cpu model>.csv``, written by ``silcount calibrate
 --out DIR`` as ``DIR/timings.csv`` and copied there by hand).  The report of
 ``silcount report`` (:func:`silcount.cli.calibrate.report`) recomputes the
 tallies from the code and the predictions from that file, so it is the same
@@ -52,7 +52,7 @@ class Calibration:
 
 
 def committed_timings() -> Path | None:
-    """The committed timings file (the first ``models/cycles/timings-*.csv``), or None."""
+    """The committed timings file (the first ``silcount/models/cycles/timings-*.csv``), or None."""
     found = sorted(cycles_dir().glob("timings-*.csv"))
     return found[0] if found else None
 
@@ -152,7 +152,7 @@ def from_committed(corpus: Path | None = None, show: bool | None = False) -> Cal
         raise UnreadableInput(f"committed timings {path.name} time none of these meshes")
     n_lights = int(times["light"].max()) + 1
     cpu = str(times["cpu_model"].iloc[0])
-    return calibrate(meshes, times, cpu, f"models/cycles/{path.name}", n_lights=n_lights, show=show)
+    return calibrate(meshes, times, cpu, f"silcount/models/cycles/{path.name}", n_lights=n_lights, show=show)
 
 
 def ranking_evidence(cal: Calibration | None = None) -> dict:

@@ -9,10 +9,10 @@
 * ``--timings FILE`` reuses a ``timings.csv`` instead of timing afresh (on the
   meshes it times, with its number of lights);
 * ``--measure`` runs the micro-benchmarks instead and writes
-  ``measured-<cpu model>.toml`` (to ``--out``, default ``models/cycles/``).
+  ``measured-<cpu model>.toml`` (to ``--out``, default ``silcount/models/cycles/``).
 
 ``silcount report`` writes the deterministic part (:func:`report`): the
-committed timings (``models/cycles/timings-*.csv``) on the icosphere series,
+committed timings (``silcount/models/cycles/timings-*.csv``) on the icosphere series,
 and on the corpus when ``$SILCOUNT_CORPUS_DIR`` is set.  To refresh them, run
 ``silcount calibrate [--corpus DIR] --out DIR`` and copy ``DIR/timings.csv``
 over the committed file.

@@ -113,13 +113,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def corpus_dir() -> Path | None:
-    """``$SILCOUNT_CORPUS_DIR``, else ``../shared/corpus`` beside the repository, if it exists."""
+    """``$SILCOUNT_CORPUS_DIR`` (the Makefile sets ``../shared/corpus``) if it names a folder, else None."""
     env = os.environ.get(CORPUS_ENV)
-    beside = Path(__file__).resolve().parents[2].parent / "shared" / "corpus"
-    for candidate in ([Path(env)] if env else []) + [beside]:
-        if candidate.is_dir():
-            return candidate
-    return None
+    return Path(env) if env and Path(env).is_dir() else None
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -139,7 +135,7 @@ def report(out_dir: Path) -> list[Path]:
 
     source = corpus_dir()
     if source is None:
-        print(f"corpus: skipped: neither ${CORPUS_ENV} nor ../shared/corpus beside the repository exists")
+        print(f"corpus: skipped: ${CORPUS_ENV} does not name a folder")
         return []
     result = corpus([source], subdivide=REPORT_LEVELS, timing=False, quiet=True)
     return write_out(result, out_dir / "corpus", with_rows=False)

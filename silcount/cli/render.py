@@ -39,7 +39,6 @@ from silcount.render.shade import shade
 from silcount.render.stencil import SHADOW_TESTS, VOLUMES
 
 HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
-REPO = Path(__file__).resolve().parents[2]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -117,13 +116,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def shared_scene_dir() -> Path | None:
-    """``$SILCOUNT_SCENE_DIR`` if set, else ``../shared/scenes`` beside the repository; None if absent."""
-    d = (
-        Path(os.environ["SILCOUNT_SCENE_DIR"])
-        if os.environ.get("SILCOUNT_SCENE_DIR")
-        else REPO.parent / "shared" / "scenes"
-    )
-    return d if d.is_dir() else None
+    """``$SILCOUNT_SCENE_DIR`` (the Makefile sets ``../shared/scenes``) if it names a folder, else None."""
+    env = os.environ.get("SILCOUNT_SCENE_DIR")
+    return Path(env) if env and Path(env).is_dir() else None
 
 
 def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:

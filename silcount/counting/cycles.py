@@ -3,22 +3,22 @@
 Every profile weighs every kind the ``true`` cost model counts
 (:data:`TRUE_KINDS`: the papers' five plus EESD's ``div`` and ``sqrt``); a
 profile lacking one is refused, naming the kind, and so is a tally holding a
-kind its profile does not weigh.  Built-in profiles (``models/cycles/``):
+kind its profile does not weigh.  Built-in profiles (``silcount/models/cycles/``):
 
 * ``paper``: the EESD paper's printed weights (Sec. 6: "Mults 4 cycles, Adds 2
   cycles, Compares 3 cycles, Reads 1 cycle and Writes 2 cycles",
-  ``models/eesd2012-paper.toml``).  The paper gives no weight for a division
+  ``silcount/models/eesd2012-paper.toml``).  The paper gives no weight for a division
   or a square root; a weight of 0 would let EESD's divisions and roots cost
   nothing, and refusing them would leave EESD's ``true`` tally without a
   paper-weighted total.  So ``div`` and ``sqrt`` get a labelled *extension*
-  (``models/cycles/paper-extension.toml``): the paper's ``mul`` weight times
+  (``silcount/models/cycles/paper-extension.toml``): the paper's ``mul`` weight times
   the smallest divsd/mulsd (sqrtsd/mulsd) latency ratio among the llvm-mca
   profiles, i.e. the cheapest division any of LLVM's CPU models allows,
   relative to the paper's own multiply.  Its source says "extension, not in
   the paper" wherever it is shown;
 * ``unit``: every operation costs 1 (a plain operation count);
 * ``<cpu>-latency`` and ``<cpu>-throughput`` for each
-  ``models/cycles/<cpu>-llvm-mca.toml``: llvm-mca's latency and reciprocal
+  ``silcount/models/cycles/<cpu>-llvm-mca.toml``: llvm-mca's latency and reciprocal
   throughput of the scalar SSE2 instruction behind each kind
   (:mod:`silcount.calibrate.mca`, ``scripts/make_cycle_profiles.py``).  These
   replace the former ``skylake.toml``, whose values were cited from memory:
@@ -27,7 +27,7 @@ kind its profile does not weigh.  Built-in profiles (``models/cycles/``):
   CMPSD's 4 and 0.5) and a store latency of 1 (the file had 4, a
   store-forwarding delay, which is not the cost of a store);
 * ``<machine>-measured-latency`` / ``-throughput`` (and ``-latency-dram``) for
-  each ``models/cycles/measured-<machine>.toml`` written by ``silcount
+  each ``silcount/models/cycles/measured-<machine>.toml`` written by ``silcount
   calibrate --measure`` (:mod:`silcount.calibrate.measure`), in nanoseconds;
 * a user's own TOML file: ``[weights]`` with every kind of :data:`TRUE_KINDS`
   (a number, or ``{value = ..., source = "..."}``) and optionally ``name``.
@@ -101,7 +101,7 @@ def _table(name: str, data: dict, table: str, path: Path, unit: str, read_key: s
 
 
 def mca_profiles() -> dict[str, Profile]:
-    """``<cpu>-latency`` and ``<cpu>-throughput`` from every ``models/cycles/<cpu>-llvm-mca.toml``."""
+    """``<cpu>-latency`` and ``<cpu>-throughput`` from every ``silcount/models/cycles/<cpu>-llvm-mca.toml``."""
     out = {}
     for path in sorted(cycles_dir().glob("*-llvm-mca.toml")):
         data = _read(path)
@@ -115,7 +115,7 @@ def mca_profiles() -> dict[str, Profile]:
 
 
 def measured_profiles() -> dict[str, Profile]:
-    """The profiles of every ``models/cycles/measured-<machine>.toml`` (nanoseconds per operation)."""
+    """The profiles of every ``silcount/models/cycles/measured-<machine>.toml`` (nanoseconds per operation)."""
     out: dict[str, Profile] = {}
     for path in sorted(cycles_dir().glob("measured-*.toml")):
         out |= measured_file_profiles(path)

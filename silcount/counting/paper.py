@@ -1,7 +1,7 @@
-"""Access to ``models/``: the papers' per-line costs, loops and printed numbers as data.
+"""Access to ``silcount/models/``: the papers' per-line costs, loops and printed numbers as data.
 
-The TOML files under ``models/`` (one per paper and algorithm, see
-``models/README.md``) are the single source of every printed number.  This
+The TOML files under ``silcount/models/`` (one per paper and algorithm, see
+``silcount/models/README.md``) are the single source of every printed number.  This
 module parses them; sympy expressions are parsed once and cached (sympy is
 imported on the first expression, so loading a detector does not load it).
 """
@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import tomllib
 from functools import cache
+from importlib.resources import files
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -32,14 +33,18 @@ DEFAULT_PAPER_MODEL = {
 
 
 def models_dir() -> Path:
-    """The ``models/`` directory (``$SILCOUNT_MODELS_DIR`` overrides the repository copy)."""
+    """The models directory: the package's data ``silcount/models/`` (``$SILCOUNT_MODELS_DIR`` overrides it).
+
+    Read through :mod:`importlib.resources`, so an installed wheel finds the copy it ships; the package
+    must be installed as files (not zipped), as pip installs it.
+    """
     env = os.environ.get("SILCOUNT_MODELS_DIR")
-    return Path(env) if env else Path(__file__).resolve().parents[2] / "models"
+    return Path(env) if env else Path(str(files("silcount") / "models"))
 
 
 @cache
 def load(name: str) -> dict:
-    """The parsed TOML of ``models/<name>.toml``."""
+    """The parsed TOML of ``silcount/models/<name>.toml``."""
     path = models_dir() / f"{name}.toml"
     with open(path, "rb") as fh:
         return tomllib.load(fh)
@@ -54,7 +59,7 @@ def symbols() -> dict[str, "sp.Symbol"]:
 
 
 def expr(text: str | int) -> "sp.Expr":
-    """Parse a cost expression from models/ with the papers' symbols."""
+    """Parse a cost expression from silcount/models/ with the papers' symbols."""
     import sympy as sp
 
     return sp.sympify(str(text), locals=symbols())

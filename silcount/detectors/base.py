@@ -42,7 +42,7 @@ class Silhouette:
     edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
     steps: dict[str, int]  # how many times each named step ran
     true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
-    paper_model: str  # the models/ file whose per-line costs give the ``paper`` cost model
+    paper_model: str  # the silcount/models/ file whose per-line costs give the ``paper`` cost model
     paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
     ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
     notes: dict[str, Any] = field(default_factory=dict)

@@ -78,7 +78,7 @@ its other faces (nor anything else) covers ``P`` on the far side of ``f1``.
 Steps and ``true`` costs (docs/counting.md)
 -------------------------------------------
 ``extend`` and ``ray`` (every edge), ``intersection`` (every edge-face pair),
-``add`` (every edge added), as in ``models/eesd2012-eesd.toml``; ``true``-only:
+``add`` (every edge added), as in ``silcount/models/eesd2012-eesd.toml``; ``true``-only:
 ``triangle_test`` (every edge-fan-triangle pair) and ``check_hits`` (every
 edge) for ``intended``, ``plane`` (every face) for ``literal``.  Every counted
 routine is branch-free (all values computed, then a fixed number of

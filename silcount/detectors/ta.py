@@ -41,7 +41,7 @@ Copies of one edge left in S are counted in ``notes['duplicates_in_S']``;
 Steps
 -----
 ``visibility`` (every face), ``search_S`` (every side of a light-facing
-face), ``delete``, ``add`` (annotated by the papers, ``models/``), plus the
+face), ``delete``, ``add`` (annotated by the papers, ``silcount/models/``), plus the
 ``true``-only steps ``shift`` (elements moved left by deletions) and, for
 ``literal``, ``init_S``.
 

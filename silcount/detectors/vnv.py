@@ -39,7 +39,7 @@ Steps
 -----
 ``visibility`` (every edge-face pair), ``counter`` (every increment),
 ``check_counter`` (every edge), ``add`` (every edge added), as in
-``models/eesd2012-vnv.toml``; ``true``-only: ``contains`` (intended, every
+``silcount/models/eesd2012-vnv.toml``; ``true``-only: ``contains`` (intended, every
 pair whose face is light-facing).
 
 Engines

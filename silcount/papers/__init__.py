@@ -2,7 +2,7 @@
 
 | module         | what it holds                                                           |
 |----------------|-------------------------------------------------------------------------|
-| formulas.py    | the closed forms re-derived from the per-line costs in ``models/``      |
+| formulas.py    | the closed forms re-derived from the per-line costs in ``silcount/models/``      |
 | growth.py      | measured operation counts against mesh size (the complexity evidence)   |
 | witness.py     | meshes and lights reaching a detector's worst-case growth (O() claims)  |
 | projection.py  | the stencil paper's planar shadow matrix and "new pixel" formula        |

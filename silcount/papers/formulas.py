@@ -1,6 +1,6 @@
 """Re-derivation of the papers' closed forms with sympy.
 
-Each algorithm's model file (``models/<paper>-<algorithm>.toml``) gives the
+Each algorithm's model file (``silcount/models/<paper>-<algorithm>.toml``) gives the
 per-line costs as annotated (``cost``), how often the printed sum charges each
 line (``runs``), the pseudo-code's loop structure (``within`` the loops of
 ``[loops]``, reached on a ``branch`` fraction of their iterations), corrected
@@ -57,7 +57,7 @@ Form = dict[str, sp.Expr]
 
 
 def parse(text: str | int) -> sp.Expr:
-    """A cost expression from models/ (symbols n, f_n, e_n, m, v, s, A, M, C, R, W)."""
+    """A cost expression from silcount/models/ (symbols n, f_n, e_n, m, v, s, A, M, C, R, W)."""
     return sp.sympify(str(text), locals=LOCALS)
 
 

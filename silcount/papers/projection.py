@@ -9,7 +9,7 @@ L onto the plane through C with normal N is
     X = L + alpha (P - L),   alpha = N.(C - L) / N.(P - L).
 
 :func:`analyse` decides, for each reading of E and D in
-``models/stencil2011-planar.toml``, whether the formula (and the matrix,
+``silcount/models/stencil2011-planar.toml``, whether the formula (and the matrix,
 applied to (P, 1) and dehomogenised) equals X for every P; and solves for the
 E and D that make them exact.  Everything is symbolic (sympy), no sampling.
 """
@@ -44,12 +44,12 @@ def correct_projection() -> sp.Matrix:
 
 
 def new_pixel() -> sp.Matrix:
-    """The printed 'new pixel' formula (components from models/)."""
+    """The printed 'new pixel' formula (components from silcount/models/)."""
     return sp.Matrix([_parse(c) for c in models.load(MODEL)["new_pixel"]["components"]])
 
 
 def shadow_matrix() -> sp.Matrix:
-    """The printed 4x4 shadow matrix (rows from models/)."""
+    """The printed 4x4 shadow matrix (rows from silcount/models/)."""
     return sp.Matrix([[_parse(x) for x in row] for row in models.load(MODEL)["shadow_matrix"]["rows"]])
 
 

@@ -4,8 +4,8 @@ Every claim carries ``paper`` (a file name in the papers directory),
 ``lines`` (``"a-b"``, 1-based, inclusive) and ``quote``.  :func:`locate` finds
 each span of the quote, in order, and returns the line range it covers;
 :func:`check` says whether the stored range is that range.  The papers are
-read-only inputs outside the repository (``$SILCOUNT_PAPERS_DIR``, default
-``../shared/papers`` beside the repository).
+read-only inputs outside the repository, named by ``$SILCOUNT_PAPERS_DIR``
+(the Makefile sets ``../shared/papers``); only the tests read them.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from pathlib import Path
 SPAN_JOIN = "..."
 
 
-def papers_dir() -> Path:
-    """Where the paper texts are (``$SILCOUNT_PAPERS_DIR`` overrides ``<repo>/../shared/papers``)."""
+def papers_dir() -> Path | None:
+    """Where the paper texts are: ``$SILCOUNT_PAPERS_DIR`` (the Makefile sets ``../shared/papers``), or None."""
     env = os.environ.get("SILCOUNT_PAPERS_DIR")
-    return Path(env) if env else Path(__file__).resolve().parents[3] / "shared" / "papers"
+    return Path(env) if env else None
 
 
 def _squeeze(text: str) -> tuple[str, list[int]]:

@@ -6,7 +6,7 @@ entry), and a rerun with the same settings skips it.  The key is the SHA-256
 of ``{"sha256", "level", "settings", "silcount_version", "code"}`` as
 canonical JSON, so renaming or moving a file keeps its entry and editing it
 does not.  ``code`` (:func:`code_digest`) digests the sources a unit's result
-depends on and ``models/``: a development tree's version string does not change when a
+depends on and ``silcount/models/``: a development tree's version string does not change when a
 detector does, and a stale count must never be read back.  Failed
 meshes are not cached (their error may be transient, e.g. memory).
 
@@ -61,7 +61,7 @@ UNIT_SOURCES = (
 
 @cache
 def code_digest() -> str:
-    """SHA-256 over :data:`UNIT_SOURCES` and ``models/**/*.toml`` (relative path and bytes of each)."""
+    """SHA-256 over :data:`UNIT_SOURCES` and ``silcount/models/**/*.toml`` (relative path and bytes of each)."""
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
     files = sorted({(package, p) for pattern in UNIT_SOURCES for p in package.glob(pattern)})

@@ -6,7 +6,7 @@ derivation), :mod:`.cells` (every printed table cell), :mod:`.comparisons`
 :mod:`.inventory` (primitives, the mesh model, complexity), :mod:`.algorithms`
 (the algorithms and stencil steps as written, the projection),
 :mod:`.citations` (dates and attributions).  The prose claims are data in
-``models/<paper>-claims.toml``; their ``check`` names the rule.  The verdict
+``silcount/models/<paper>-claims.toml``; their ``check`` names the rule.  The verdict
 rules are in ``docs/claims.md``.  Importing this package is cheap: sympy,
 pandas and the detectors load on the first call.
 """

@@ -55,7 +55,7 @@ class Claim:
     reason: str
     readings: list[Reading] = field(default_factory=list)
     id: int = 0
-    # which reading the papers' own tables or figures use (models/: ``table_reading``), "" when not recorded
+    # which reading the papers' own tables or figures use (silcount/models/: ``table_reading``), "" when not recorded
     table_reading: str = ""
     # the key of the FAILS claim whose slip this FAILS restates at another place (a table cell computed from a
     # printed line that already fails, ...); "" for an independent erratum

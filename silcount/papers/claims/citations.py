@@ -81,13 +81,9 @@ def section_reference(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
-def _references(source: str) -> list[str]:
-    """The paper's reference entries ("- [k] ..." lines after its REFERENCES heading)."""
-    from silcount.papers.quotes import papers_dir
-
-    text = (papers_dir() / source).read_text()
-    tail = text[text.rindex("REFERENCES") :]
-    return [line for line in tail.splitlines() if re.match(r"- \[\d+\]", line.strip())]
+def _references(c: dict) -> list[str]:
+    """The paper's reference entries: the claim's ``entries_quote``, its whole list as quoted at ``entries_lines``."""
+    return [line.strip() for line in c["entries_quote"].splitlines() if re.match(r"- \[\d+\]", line.strip())]
 
 
 def cited_topic(c: dict, source: str, ev: Evidence) -> Claim:
@@ -116,7 +112,7 @@ def cited_topic(c: dict, source: str, ev: Evidence) -> Claim:
 
 def no_entry(c: dict, source: str, ev: Evidence) -> Claim:
     """An attribution by name: some entry of the paper's own reference list names one of ``names``."""
-    entries = _references(source)
+    entries = _references(c)
     found = [e for e in entries if any(nm.lower() in e.lower() for nm in c["names"])]
     return claim_from_data(
         c,
