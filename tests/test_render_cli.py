@@ -8,7 +8,7 @@ from PIL import Image
 
 from silcount.cli.main import main
 from silcount.cli.render import shared_scene_dir
-from silcount.render.masks import write_mask
+from silcount.render.masks import compare_masks, dilate, edge_pixels, write_mask
 
 
 def scene_path(name):
@@ -102,3 +102,98 @@ def test_render_with_a_hierarchy_detector_gives_the_reference_mask(tmp_path, cap
         assert main(["render", s, "--method", method, "--detector", detector, "--out", str(out)]) == 0
         assert f"{detector} intended" in capsys.readouterr().out
         assert np.array_equal(np.asarray(Image.open(out)), np.asarray(Image.open(tmp_path / f"ref.{method}.png")))
+
+
+# ---- the previous, hand-written numpy implementation of edge_pixels and dilate (before scipy.ndimage, issue 25),
+# kept here as the oracle the scipy.ndimage versions must reproduce bit for bit ---------------------------------
+
+
+def previous_edge_pixels(mask: np.ndarray) -> np.ndarray:
+    """PREVIOUS IMPLEMENTATION of silcount.render.masks.edge_pixels (oracle)."""
+    m = np.pad(mask, 1, mode="edge")
+    H, W = mask.shape
+    out = np.zeros_like(mask, dtype=bool)
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            out |= m[1 + dr : 1 + dr + H, 1 + dc : 1 + dc + W] != mask
+    return out
+
+
+def previous_dilate(mask: np.ndarray) -> np.ndarray:
+    """PREVIOUS IMPLEMENTATION of silcount.render.masks.dilate (oracle)."""
+    m = np.pad(mask, 1)
+    H, W = mask.shape
+    out = np.zeros_like(mask, dtype=bool)
+    for dr in (0, 1, 2):
+        for dc in (0, 1, 2):
+            out |= m[dr : dr + H, dc : dc + W]
+    return out
+
+
+def oracle_masks():
+    """Random masks of several shapes and densities, all-false, all-true, 1xN, Nx1, 1x1, and masks set only
+    on (or only off) the border pixels, a single corner, a line along one side."""
+    rng = np.random.default_rng(25)
+    shapes = [(1, 1), (1, 2), (2, 1), (1, 7), (7, 1), (2, 2), (3, 3), (2, 5), (5, 3), (16, 16), (31, 17), (64, 48)]
+    for shape in shapes:
+        yield np.zeros(shape, dtype=bool)
+        yield np.ones(shape, dtype=bool)
+        for p in (0.02, 0.5, 0.98):
+            for _ in range(3):
+                yield rng.random(shape) < p
+        border = np.ones(shape, dtype=bool)
+        border[1:-1, 1:-1] = False
+        yield border
+        yield ~border
+        for r, c in ((0, 0), (0, -1), (-1, 0), (-1, -1)):
+            corner = np.zeros(shape, dtype=bool)
+            corner[r, c] = True
+            yield corner
+            yield ~corner
+        side = np.zeros(shape, dtype=bool)
+        side[:, -1] = True
+        yield side
+        yield side.T.copy()
+
+
+def test_edge_pixels_and_dilate_are_the_previous_implementation_bit_for_bit():
+    n = 0
+    for m in oracle_masks():
+        for layout in (m, np.asfortranarray(m), m[::-1, ::-1]):  # any memory layout or stride
+            e, d = edge_pixels(layout), dilate(layout)
+            want_e, want_d = previous_edge_pixels(layout), previous_dilate(layout)
+            assert e.dtype == want_e.dtype == bool and d.dtype == want_d.dtype == bool
+            assert e.shape == want_e.shape == d.shape == want_d.shape == layout.shape
+            assert np.array_equal(e, want_e) and np.array_equal(d, want_d), m.astype(int)
+            # compare_masks composes them: dilate(edge | edge)
+            assert np.array_equal(dilate(e), previous_dilate(want_e))
+            n += 1
+    assert n > 500
+
+
+def test_edge_pixels_at_the_border_repeat_the_border_and_dilate_pads_with_false():
+    one = np.array([[True, False, False, False]])  # 1x4
+    assert edge_pixels(one).tolist() == [[True, True, False, False]]  # past the border: the border repeated
+    assert dilate(one).tolist() == [[True, True, False, False]]
+    full = np.ones((3, 4), dtype=bool)
+    assert not edge_pixels(full).any()  # the image border is no edge by itself (not padded with false)
+    assert dilate(full).all() and not dilate(~full).any()  # nor is it grown from true past the border
+    gray = np.array([[0, 1, 1], [1, 1, 1], [1, 1, 2]], dtype=np.uint8)  # any values: differs from a neighbour
+    assert np.array_equal(edge_pixels(gray), previous_edge_pixels(gray))
+    with pytest.raises(ValueError):
+        edge_pixels(np.zeros(5, dtype=bool))
+    with pytest.raises(ValueError):
+        dilate(np.zeros((2, 2, 2), dtype=bool))
+
+
+def test_compare_masks_matches_the_previous_implementation_on_random_masks():
+    rng = np.random.default_rng(7)
+    for shape in ((1, 9), (9, 1), (40, 30)):
+        for _ in range(20):
+            a = rng.random(shape) < 0.5
+            b = a ^ (rng.random(shape) < 0.1)
+            cov = rng.random(shape) < 0.9
+            c = compare_masks(a, b, cov)
+            near = previous_dilate(previous_edge_pixels(a) | previous_edge_pixels(b))
+            diff = (a != b) & cov
+            assert (c.covered, c.mismatched, c.far) == (int(cov.sum()), int(diff.sum()), int((diff & ~near).sum()))
