@@ -186,3 +186,19 @@ def test_ranking_evidence(committed):
             for verdict in entry["predicted"][model].values():
                 assert verdict["fastest_agrees"] == (verdict["fastest"] == entry["measured_fastest"])
     assert ev["summary"]["true"]["paper"]["meshes"] == len(timing.SERIES)
+
+
+def test_a_timed_mesh_that_loads_today_with_another_face_count_is_left_out_and_named():
+    """Old times paired with today's tallies of another mesh would be a wrong sample (suzanne.ply: 968 -> 500)."""
+    import pandas as pd
+
+    from silcount.calibrate.run import _as_timed
+    from silcount.mesh.shapes import builtin_mesh
+
+    same, other = builtin_mesh("icosphere1"), builtin_mesh("icosphere2")
+    same.name, other.name = "a.obj", "b.obj"
+    times = pd.DataFrame({"mesh": ["a.obj", "b.obj"], "faces": [same.n_faces, 968], "seconds": [1.0, 1.0]})
+    kept, left_out = _as_timed([("corpus", same), ("corpus", other)], times)
+    assert [m.name for _, m in kept] == ["a.obj"]
+    assert left_out == (f"b.obj: timed with 968 faces, loads today with {other.n_faces}",)
+    assert _as_timed([("corpus", other)], times.drop(columns=["faces"])) == ([("corpus", other)], ())

@@ -54,6 +54,7 @@ def to_json(cal: Calibration) -> str:
         "summary_large": _records(cal.summary_large),
         "per_mesh": _records(cal.per_mesh),
         "fps": _records(cal.fps),
+        "left_out": list(cal.left_out),
         "literature": {
             "detectors": sorted(set(cal.literature_samples["detector"]), key=TIMED.index),
             "samples": len(cal.literature_samples),
@@ -75,6 +76,11 @@ def to_markdown(cal: Calibration) -> str:
         "",
         f"Best fit: model `{best['model']}`, profile `{best['profile']}`, R^2 = {_round(float(best['r2']))}.",
         "",
+        *(
+            [f"Left out (the timed file loads today as another mesh): {'; '.join(cal.left_out)}.", ""]
+            if cal.left_out
+            else []
+        ),
         "## Per cost model and profile",
         "",
         rounded(cal.summary).to_markdown(index=False),
@@ -187,7 +193,7 @@ def write(cal: Calibration, out_dir: Path, with_timings: bool = False, figures: 
         paths += [figure(cal, model, out_dir / f"calibrate_{model}.png") for model in MODELS]
     if with_timings:
         every = pd.concat([cal.samples, cal.literature_samples]) if len(cal.literature_samples) else cal.samples
-        times = every[["mesh", "detector", "light", "seconds"]].copy()
+        times = every[["mesh", "faces", "detector", "light", "seconds"]].copy()
         times.insert(0, "cpu_model", cal.cpu_model)
         paths.append(write_text(out_dir / "timings.csv", times.to_csv(index=False)))
     return paths

@@ -49,6 +49,7 @@ class Calibration:
     literature_predictions: pd.DataFrame  # their predictions with ``summary``'s scales
     literature: pd.DataFrame  # per (model, profile, detector): predicted/measured ratios (predict.literature_summary)
     literature_meshes: pd.DataFrame  # per mesh: measured seconds of every timed detector, summed over the lights
+    left_out: tuple[str, ...] = ()  # timed meshes that load today with another face count, and why
 
 
 def committed_timings() -> Path | None:
@@ -147,12 +148,33 @@ def from_committed(corpus: Path | None = None, show: bool | None = False) -> Cal
             mesh = load_mesh(corpus / name)
             mesh.name = name
             meshes.append(("corpus", mesh))
-    times = times[times["mesh"].isin({m.name for _, m in meshes})]
+    meshes, left_out = _as_timed(meshes, times)
+    times = times[times["mesh"].isin({m.name for _, m in meshes})].drop(columns=["faces"], errors="ignore")
     if not len(times):
         raise UnreadableInput(f"committed timings {path.name} time none of these meshes")
     n_lights = int(times["light"].max()) + 1
     cpu = str(times["cpu_model"].iloc[0])
-    return calibrate(meshes, times, cpu, f"silcount/models/cycles/{path.name}", n_lights=n_lights, show=show)
+    cal = calibrate(meshes, times, cpu, f"silcount/models/cycles/{path.name}", n_lights=n_lights, show=show)
+    cal.left_out = left_out
+    return cal
+
+
+def _as_timed(meshes: list[tuple[str, Mesh]], times: pd.DataFrame) -> tuple[list[tuple[str, Mesh]], tuple[str, ...]]:
+    """The meshes that load today as they were timed (the timings' ``faces``), and a line for each other one.
+
+    A loader change can turn a timed file into another mesh (suzanne.ply was timed as 968 triangles; its
+    500 polygons are kept as polygons today): pairing its old times with today's tallies would be wrong.
+    """
+    if "faces" not in times.columns:
+        return meshes, ()
+    timed = times.groupby("mesh")["faces"].first()
+    kept, left_out = [], []
+    for group, mesh in meshes:
+        if mesh.name in timed.index and int(timed[mesh.name]) != mesh.n_faces:
+            left_out.append(f"{mesh.name}: timed with {int(timed[mesh.name])} faces, loads today with {mesh.n_faces}")
+        else:
+            kept.append((group, mesh))
+    return kept, tuple(left_out)
 
 
 def ranking_evidence(cal: Calibration | None = None) -> dict:
