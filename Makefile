@@ -42,7 +42,7 @@ lint: $(STAMP)
 	$(BIN)/mypy silcount scripts
 
 ## Mutation testing (slow, not part of CI): mutmut 2 over the detectors, the counting layer (arithmetic, the
-## cost-model loader paper.py, cycles) and the re-derivation (papers/formulas.py), each module judged by its own
+## cost-model loader models.py, cycles) and the re-derivation (papers/formulas.py), each module judged by its own
 ## hand-counted tests (scripts/mutation.py holds the selection).  mutmut edits the tree in place and restores it.
 ## MUTATE="<module> ..." narrows the run.
 MUTATE ?=

@@ -28,7 +28,7 @@ from pathlib import Path
 COMMON = "tests/test_edge_rules.py"
 SELECTION: dict[str, str] = {
     "silcount/counting/arithmetic.py": "tests/test_arithmetic.py",
-    "silcount/counting/paper.py": "tests/test_models_dir.py tests/test_ta.py tests/test_formulas.py",
+    "silcount/counting/models.py": "tests/test_models_dir.py tests/test_ta.py tests/test_formulas.py",
     "silcount/counting/cycles.py": "tests/test_cycles.py",
     "silcount/detectors/base.py": f"tests/test_base.py tests/test_vnv.py tests/test_reference.py tests/test_eesd.py "
     f"{COMMON}",

@@ -14,7 +14,7 @@ import jsonschema
 import pytest
 
 from silcount.cli.main import main
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.papers import claims, formulas, projection, tables
 from silcount.papers.claims import AMBIGUOUS, FAILS, base, cells
 from silcount.papers.claims.rendering import findings, render_json, render_md, render_text

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.papers.claims.base import CLAIM_FILES
 from silcount.papers.quotes import check, papers_dir
 

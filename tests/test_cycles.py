@@ -9,7 +9,7 @@ import pytest
 from silcount.calibrate import mca
 from silcount.cli.main import main
 from silcount.counting import cycles
-from silcount.counting import paper as paper_models
+from silcount.counting import models as paper_models
 from silcount.errors import BadArgument
 
 ALL = ("add", "mul", "cmp", "read", "write", "div", "sqrt")

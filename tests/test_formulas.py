@@ -21,7 +21,7 @@ from sympy.parsing.sympy_parser import (
 )
 
 import silcount
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
 from silcount.papers import kernels

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from strategies import any_meshes, closed_meshes, examples, lights_for
 
 import silcount
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.mesh.coplanar import merge
 from silcount.mesh.model import from_polygons
 

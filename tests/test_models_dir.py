@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import shutil
 
-from silcount.counting import paper
+from silcount.counting import models as paper
 
 
 def _clear() -> None:

@@ -6,7 +6,7 @@ from hypothesis import strategies as st
 from strategies import any_meshes, closed_meshes, examples, lights_for, mesh_and_light
 
 import silcount
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.detectors.base import visibility_true_cost
 from silcount.mesh.model import from_polygons
 

@@ -21,9 +21,9 @@ ROOT = Path(__file__).resolve().parent.parent
 RUN = """
 import json, sys
 import silcount
-from silcount.counting import paper
+from silcount.counting import models
 from silcount.cli.main import run
-print(json.dumps({"file": silcount.__file__, "models": str(paper.models_dir())}))
+print(json.dumps({"file": silcount.__file__, "models": str(models.models_dir())}))
 sys.argv = ["silcount", "audit", sys.argv[1], "--detectors", "reference", "--random-lights", "1",
             "--format", "json", "--out", sys.argv[2], "--quiet"]
 run()

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import silcount
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.mesh.shapes import icosphere
 from silcount.papers import witness
 from silcount.papers.claims import FAILS, HOLDS, inventory

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.cycles import load_profile
 from silcount.mesh.model import Mesh
 

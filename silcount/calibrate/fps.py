@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from silcount.counting import paper as models
+from silcount.counting import models
 
 CLOCK_HZ = 2.8e9
 BUNNY_EDGES = 2207

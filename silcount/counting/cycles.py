@@ -39,7 +39,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
 from silcount.errors import BadArgument, UnreadableInput
 

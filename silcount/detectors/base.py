@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import silhouette_edge_ids
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -78,7 +78,7 @@ def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) ->
 
 
 def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> dict[str, int]:
-    """:func:`silcount.counting.paper.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
+    """:func:`silcount.counting.models.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
     key = tuple(sorted(params.items()))
     total = {k: 0 for k in KINDS}
     for step, count in steps.items():

@@ -44,7 +44,7 @@ from functools import cache
 
 import sympy as sp
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
 
 n, f_n, e_n, m = (models.symbols()[k] for k in ("n", "f_n", "e_n", "m"))

@@ -21,7 +21,7 @@ from functools import cache
 
 import sympy as sp
 
-from silcount.counting import paper as models
+from silcount.counting import models
 
 NAMES = ("Lx Ly Lz Nx Ny Nz Cx Cy Cz Px Py Pz E D").split()
 SYM = {name: sp.Symbol(name, real=True) for name in NAMES}

@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from silcount.atomic import write_text
-from silcount.counting import paper as models
+from silcount.counting import models
 
 if TYPE_CHECKING:
     import pandas as pd

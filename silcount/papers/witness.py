@@ -219,7 +219,7 @@ def bound_witness(model: str) -> BoundWitness:
     """Run :data:`BOUND_WITNESSES`' ``model`` entry and price it (see the section comment above)."""
     import sympy as sp
 
-    from silcount.counting import paper as models
+    from silcount.counting import models
     from silcount.papers import formulas as F
 
     detector, variant, build, light, note = BOUND_WITNESSES[model]

@@ -29,7 +29,7 @@ from functools import cache
 from pathlib import Path
 
 from silcount.atomic import write_text
-from silcount.counting.paper import models_dir
+from silcount.counting.models import models_dir
 from silcount.study.work import Settings
 from silcount.version import __version__
 

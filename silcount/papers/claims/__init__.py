@@ -43,7 +43,7 @@ def default_evidence(real: bool = False) -> "Evidence":
 
 def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
     """Every claim, numbered, in a fixed order: derivations, table cells, then each paper's claims file."""
-    from silcount.counting import paper as models
+    from silcount.counting import models
     from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, fps, inventory
 
     ev = default_evidence() if evidence is None else evidence

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cache
 
-from silcount.counting import paper as models
+from silcount.counting import models
 
 HOLDS, FAILS, AMBIGUOUS = "HOLDS", "FAILS", "AMBIGUOUS"
 VERDICTS = (HOLDS, FAILS, AMBIGUOUS)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.papers import formulas as F
 from silcount.papers import tables as T
 from silcount.papers.claims.base import FAILS, HOLDS, Claim

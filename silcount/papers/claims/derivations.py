@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from silcount.counting import paper as models
+from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
 from silcount.papers.claims.base import Claim, Reading, algo, from_readings, show_readings, source_of
