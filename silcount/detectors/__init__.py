@@ -15,7 +15,8 @@ The first five are the papers' (and silcount's O(E) yardstick); the last two
 are the literature's output-sensitive detectors of the time, set beside them
 (``docs/literature.md``).
 
-Beside them: ``base.py`` (the result type, counted visibility),
+Beside them: ``result.py`` (the result type, :class:`Silhouette`), ``base.py``
+(counted visibility and assembling the result),
 ``adjacency.py`` (light-facing flags and the reference rule, shared by all),
 ``edge_array.py`` (TA's and HSD's array S), ``onplane.py`` (EESD literal's
 point-on-plane search), ``hierarchy.py``, ``hierarchy_naive.py`` and
@@ -31,7 +32,8 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
-from silcount.detectors.base import ENGINES, VARIANTS, Silhouette
+from silcount.detectors.base import ENGINES, VARIANTS
+from silcount.detectors.result import Silhouette
 from silcount.errors import check_choice
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh

@@ -1,4 +1,4 @@
-"""What every detector shares: the result type, light-facing, counted visibility.
+"""What every detector shares: light-facing, counted visibility, and assembling the result.
 
 The light-facing test is the papers' visibility step (HSD paper Sec. VI 6.1;
 EESD paper Sec. 5.1): a face normal from the first three corners, a vector
@@ -6,13 +6,13 @@ from the face to the light, a dot product and the sign of the result.
 :func:`counted_visibility` is the one scalar implementation every ``naive``
 engine calls; :func:`visibility_true_cost` measures its cost by running it,
 so the ``fast`` engines charge exactly what the ``naive`` ones execute.
+:func:`make_silhouette` assembles the result type, :class:`.result.Silhouette`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from functools import cache, cached_property
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -20,71 +20,12 @@ import numpy as np
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh, from_polygons
 
 VARIANTS = ("intended", "literal")
 ENGINES = ("fast", "naive")
-
-
-@dataclass
-class Silhouette:
-    """The result of one detector run for one light.
-
-    ``edges``, ``oriented`` and ``tally`` are computed on first access (a
-    query that only needs ``edge_ids`` pays for nothing else); the ``paper``
-    tally's per-step costs are evaluated once per (model, mesh parameters).
-    """
-
-    detector: str
-    variant: str
-    engine: str
-    edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
-    steps: dict[str, int]  # how many times each named step ran
-    true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
-    paper_model: str  # the silcount/models/ file whose per-line costs give the ``paper`` cost model
-    paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
-    ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
-    notes: dict[str, Any] = field(default_factory=dict)
-    mesh: Mesh | None = field(default=None, repr=False)  # the mesh the ids index
-    orient: Callable[[], np.ndarray] | None = field(default=None, repr=False)  # computes ``oriented``
-
-    @cached_property
-    def edges(self) -> np.ndarray:
-        """(k, 2) welded vertex indices, rows sorted, rows in order."""
-        assert self.mesh is not None
-        return self.mesh.edges[self.edge_ids]
-
-    @cached_property
-    def oriented(self) -> np.ndarray:
-        """(k, 2) the same edges, as traversed by their light-facing face."""
-        assert self.orient is not None
-        return self.orient()
-
-    @cached_property
-    def tally(self) -> dict[str, dict[str, int]]:
-        """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access."""
-        return {"paper": paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
-
-    @property
-    def n_edges(self) -> int:
-        return int(self.edge_ids.size)
-
-
-@cache
-def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) -> tuple[tuple[str, int], ...]:
-    """The ``paper`` cost of one run of ``step`` at ``params`` (sympy runs once per key)."""
-    return tuple(models.paper_tally(model, {step: 1}, dict(params)).items())
-
-
-def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> dict[str, int]:
-    """:func:`silcount.counting.models.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
-    key = tuple(sorted(params.items()))
-    total = {k: 0 for k in KINDS}
-    for step, count in steps.items():
-        for kind, unit in _unit_costs(model, key, step):
-            total[kind] = total.get(kind, 0) + int(count) * unit
-    return total
 
 
 class MeshMemory:
@@ -254,7 +195,6 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 
 __all__ = [
-    "Silhouette",
     "MeshMemory",
     "counted_face_normal",
     "counted_visibility",
@@ -263,7 +203,6 @@ __all__ = [
     "oriented_edges",
     "make_silhouette",
     "unique_ids",
-    "paper_tally",
     "VARIANTS",
     "ENGINES",
     "Num",

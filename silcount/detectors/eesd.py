@@ -114,7 +114,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, make_silhouette, unique_ids
+from silcount.detectors.base import MeshMemory, add_scaled, make_silhouette, unique_ids
 from silcount.detectors.eesd_counted import (
     ADD_COST,
     CHECK_COST,
@@ -130,6 +130,7 @@ from silcount.detectors.eesd_counted import (
     routine_cost,
 )
 from silcount.detectors.onplane import zeros_per_point
+from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer

@@ -38,10 +38,10 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, OpCounter
-from silcount.detectors.base import Silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
+from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 

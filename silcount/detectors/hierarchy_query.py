@@ -18,10 +18,11 @@ from numba import njit, prange
 
 from silcount.counting.arithmetic import OpCounter
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import Silhouette, add_scaled, make_silhouette
+from silcount.detectors.base import add_scaled, make_silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, Hierarchy, KeyScheme, build_fast, overflows
 from silcount.detectors.hierarchy_naive import build_naive, query_naive
 from silcount.detectors.reference import fast_tally as reference_tally
+from silcount.detectors.result import Silhouette
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh

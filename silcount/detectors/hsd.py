@@ -43,8 +43,9 @@ import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
-from silcount.detectors.base import MeshMemory, Silhouette, add_scaled, counted_visibility, visibility_true_cost
+from silcount.detectors.base import MeshMemory, add_scaled, counted_visibility, visibility_true_cost
 from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
+from silcount.detectors.result import Silhouette
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
 from silcount.mesh.coplanar import Merge, merge
 from silcount.mesh.lights import Light

@@ -41,7 +41,7 @@ import numpy as np
 
 from silcount.detectors import detect
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import Silhouette
+from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 

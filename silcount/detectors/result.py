@@ -1,0 +1,83 @@
+"""The result of one detector run for one light: :class:`Silhouette`, with both cost models' tallies.
+
+The ``paper`` tally is ``sum(steps x annotated cost)`` from ``silcount/models/``
+(:func:`silcount.counting.models.paper_tally`), memoised per (model, mesh
+parameters, step) so that sympy runs once per key; the ``true`` tally is what
+the detector's engine observed or charged.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cache, cached_property
+from typing import Any
+
+import numpy as np
+
+from silcount.counting import models
+from silcount.counting.arithmetic import KINDS
+from silcount.mesh.model import Mesh
+
+
+@dataclass
+class Silhouette:
+    """The result of one detector run for one light.
+
+    ``edges``, ``oriented`` and ``tally`` are computed on first access (a
+    query that only needs ``edge_ids`` pays for nothing else); the ``paper``
+    tally's per-step costs are evaluated once per (model, mesh parameters).
+    """
+
+    detector: str
+    variant: str
+    engine: str
+    edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
+    steps: dict[str, int]  # how many times each named step ran
+    true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
+    paper_model: str  # the silcount/models/ file whose per-line costs give the ``paper`` cost model
+    paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
+    ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
+    notes: dict[str, Any] = field(default_factory=dict)
+    mesh: Mesh | None = field(default=None, repr=False)  # the mesh the ids index
+    orient: Callable[[], np.ndarray] | None = field(default=None, repr=False)  # computes ``oriented``
+
+    @cached_property
+    def edges(self) -> np.ndarray:
+        """(k, 2) welded vertex indices, rows sorted, rows in order."""
+        assert self.mesh is not None
+        return self.mesh.edges[self.edge_ids]
+
+    @cached_property
+    def oriented(self) -> np.ndarray:
+        """(k, 2) the same edges, as traversed by their light-facing face."""
+        assert self.orient is not None
+        return self.orient()
+
+    @cached_property
+    def tally(self) -> dict[str, dict[str, int]]:
+        """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access."""
+        return {"paper": paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
+
+    @property
+    def n_edges(self) -> int:
+        return int(self.edge_ids.size)
+
+
+@cache
+def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) -> tuple[tuple[str, int], ...]:
+    """The ``paper`` cost of one run of ``step`` at ``params`` (sympy runs once per key)."""
+    return tuple(models.paper_tally(model, {step: 1}, dict(params)).items())
+
+
+def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> dict[str, int]:
+    """:func:`silcount.counting.models.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
+    key = tuple(sorted(params.items()))
+    total = {k: 0 for k in KINDS}
+    for step, count in steps.items():
+        for kind, unit in _unit_costs(model, key, step):
+            total[kind] = total.get(kind, 0) + int(count) * unit
+    return total
+
+
+__all__ = ["Silhouette", "paper_tally"]
