@@ -17,7 +17,7 @@ from test_engines import expected_edges, facing, reference_edges
 
 import silcount
 from silcount import DirectionalLight, PointLight, from_polygons
-from silcount.audit.formats import render
+from silcount.audit.formats import format_audit
 from silcount.audit.run import AuditSettings, random_lights, run_audit, winding_number
 from silcount.cli import report as report_cmd
 from silcount.counting.arithmetic import KINDS
@@ -194,7 +194,7 @@ def test_hierarchies_have_one_variant_and_their_build_apart():
         saving = agg["query_saving"] / 3
         want = int(np.ceil(sum(agg["build"].values()) / saving)) if saving > 0 else None
         assert agg["break_even_lights"] == want, name
-    text = render(a, "md")
+    text = format_audit(a, "md")
     assert "## Hierarchies" in text and "break-even lights" in text
 
 
@@ -235,7 +235,7 @@ def test_reference_has_no_printed_formula():
 # ---- the JSON schema -----------------------------------------------------------------------------
 def test_json_schema_keys():
     a = audit(silcount.builtin_mesh("quad_cube"), random_lights(silcount.builtin_mesh("quad_cube"), 2))
-    doc = json.loads(render(a, "json"))
+    doc = json.loads(format_audit(a, "json"))
     assert {"silcount_version", "schema", "mesh", "lights", "warnings", "detectors", "per_light"} <= set(doc)
     assert doc["silcount_version"] == silcount.__version__
     for name, d in doc["detectors"].items():

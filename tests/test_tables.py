@@ -65,7 +65,7 @@ def test_every_format_carries_every_column(capsys):
     assert main(["tables", "--format", "csv"]) == 0
     rows = list(csv.reader(io.StringIO(capsys.readouterr().out)))
     assert rows[0] == list(tables.COLUMNS) and len(rows) == 1 + 70
-    md, tex = tables.render("md"), tables.render("tex")
+    md, tex = tables.format_tables("md"), tables.format_tables("tex")
     assert all(f"| {col}" in md or f"|{col}" in md or f" {col} |" in md for col in tables.COLUMNS)
     header = next(line for line in tex.splitlines() if line.startswith("table &"))
     assert header.count("&") == len(tables.COLUMNS) - 1

@@ -201,7 +201,7 @@ def render_json(audit: dict) -> str:
     return json.dumps(audit, indent=1, allow_nan=False) + "\n"
 
 
-def render(audit: dict, form: str) -> str:
+def format_audit(audit: dict, form: str) -> str:
     if form == "json":
         return render_json(audit)
     return render_text(audit, markdown=form == "md")

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.audit.costs import cycle_profile
-from silcount.audit.formats import FORMATS, render, render_json, write_atomic
+from silcount.audit.formats import FORMATS, format_audit, render_json, write_atomic
 from silcount.audit.run import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
 from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, check_choice
@@ -163,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.weld_tolerance >= 0.0:
             raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
         mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
-        text = render(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
+        text = format_audit(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
         if args.out is None:
             sys.stdout.write(text)
         else:
@@ -178,10 +178,10 @@ def run(args: argparse.Namespace) -> int:
             raise BadArgument(f"--out {args.out}: with no MESH, --out must be a directory")
         for name, a in audits:
             path = args.out / f"{name}.{EXTENSIONS[args.format]}"
-            write_atomic(path, render(a, args.format))
+            write_atomic(path, format_audit(a, args.format))
             print(f"wrote {path}", file=sys.stderr)
     elif args.format == "json":
         sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
     else:
-        sys.stdout.write("\n".join(render(a, args.format) for _, a in audits))
+        sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
     return 0

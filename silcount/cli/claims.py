@@ -27,8 +27,8 @@ def report(out_dir: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     from silcount.counting.cycles import load_profile
-    from silcount.papers.claims import render
+    from silcount.papers.claims import format_claims
 
     profile = load_profile(args.cycles) if args.cycles else None
-    print(render(args.format, profile), end="")
+    print(format_claims(args.format, profile), end="")
     return 0

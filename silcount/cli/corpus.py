@@ -83,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from silcount.errors import BadArgument
     from silcount.study import corpus
-    from silcount.study.output import render, write_out
+    from silcount.study.output import format_corpus, write_out
 
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise BadArgument(f"--out {args.out}: not a directory")
@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
         time_lights=args.time_lights,
         quiet=args.quiet,
     )
-    sys.stdout.write(render(result, args.format))
+    sys.stdout.write(format_corpus(result, args.format))
     if args.out is not None:
         for path in write_out(result, args.out):
             print(f"wrote {path}", file=sys.stderr)

@@ -25,7 +25,7 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from silcount.audit.formats import render, write_atomic
+from silcount.audit.formats import format_audit, write_atomic
 from silcount.audit.run import AuditSettings, random_lights, run_audit
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
@@ -61,7 +61,7 @@ def audit_one(out_dir: Path, name: str) -> list[Path]:
     written = []
     for form in ("md", "json"):
         path = out_dir / "audit" / f"{name}.{EXTENSIONS[form]}"
-        write_atomic(path, render(audit, form))
+        write_atomic(path, format_audit(audit, form))
         written.append(path)
     return written
 

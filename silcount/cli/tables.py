@@ -25,11 +25,11 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from silcount.papers.tables import render, write_all
+    from silcount.papers.tables import format_tables, write_all
 
     if args.out is not None:
         for path in write_all(args.out):
             print(path)
     else:
-        print(render(args.format), end="")
+        print(format_tables(args.format), end="")
     return 0

@@ -168,7 +168,7 @@ def render_tex(df: "pd.DataFrame | None" = None) -> str:
 RENDER = {"md": render_md, "csv": render_csv, "tex": render_tex}
 
 
-def render(fmt: str) -> str:
+def format_tables(fmt: str) -> str:
     return RENDER[fmt]()
 
 

@@ -78,7 +78,7 @@ def render_json(result: CorpusResult) -> str:
     return json.dumps(result.document, indent=2, sort_keys=False) + "\n"
 
 
-def render(result: CorpusResult, form: str) -> str:
+def format_corpus(result: CorpusResult, form: str) -> str:
     """The sweep as ``text``, ``md`` or ``json``."""
     if form == "json":
         return render_json(result)
@@ -112,7 +112,7 @@ def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> li
     frame = kind_frame(result.rows, result.meshes, result.settings)
     with_page = bool(set(LITERATURE) & set(result.settings.detectors))
     link = f"See [{TITLE}](literature.md).\n\n" if with_page else ""
-    paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + link + render(result, "md")))
+    paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + link + format_corpus(result, "md")))
     if with_page:
         text = page(frame, result.fits, result.settings, result.failed)
         paths.append(write_text(out_dir / "literature.md", text))

@@ -93,7 +93,7 @@ def findings_markdown(evidence: "Evidence | None" = None) -> str:
     return findings(all_claims(evidence))
 
 
-def render(fmt: str, extra_profile: "Profile | None" = None) -> str:
+def format_claims(fmt: str, extra_profile: "Profile | None" = None) -> str:
     """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings)."""
     from silcount.papers.claims.rendering import RENDER
 
@@ -119,6 +119,6 @@ __all__ = [
     "all_claims",
     "claims_frame",
     "findings_markdown",
-    "render",
+    "format_claims",
     "report",
 ]
