@@ -9,13 +9,13 @@ triangle cube are a hand count.
 from __future__ import annotations
 
 import numpy as np
+from coplanar_counted import merge_counted
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import any_meshes, boxes, examples, extrusions, lattice_hulls
 
 import silcount
 from silcount.mesh.coplanar import merge
-from silcount.mesh.coplanar_counted import merge_counted
 from silcount.mesh.model import from_polygons
 
 
