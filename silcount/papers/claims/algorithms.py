@@ -22,7 +22,7 @@ import sympy as sp
 from silcount.detectors import detect
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth, projection
-from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, from_readings, show_readings
+from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings, show_readings
 from silcount.papers.claims.context import Evidence
 
 STANDARD_ZPASS: dict[str, list] = {
@@ -52,15 +52,15 @@ NOT_MEASURED = "not measured (no stencil evidence given)"
 
 
 def _judged(c, source, family, readings, rederived="", measured=None, reason="") -> Claim:
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         family,
+        readings,
+        reason,
         rederived=rederived or show_readings(readings),
         measured=measured,
-        verdict=from_readings(readings),
-        reason=reason,
-        readings=readings if len(readings) > 1 else [],
+        keep_one=False,
     )
 
 

@@ -135,6 +135,31 @@ def unit_weights() -> tuple:
     return tuple(sorted((k, 1.0) for k in KINDS))
 
 
+def judged_by_readings(
+    c: dict,
+    source: str,
+    family: str,
+    readings: list[Reading],
+    reason: str,
+    *,
+    rederived: str | None = None,
+    measured: str | None = None,
+    keep_one: bool = True,
+) -> Claim:
+    """:func:`claim_from_data` judged by its readings: the verdict :func:`from_readings`, the rederived value
+    :func:`show_readings` unless given; ``keep_one=False`` reports no readings when there is just one."""
+    return claim_from_data(
+        c,
+        source,
+        family,
+        rederived=show_readings(readings) if rederived is None else rederived,
+        measured=measured,
+        verdict=from_readings(readings),
+        reason=reason,
+        readings=readings if keep_one or len(readings) > 1 else [],
+    )
+
+
 def claim_from_data(c: dict, source: str, family: str, **judged) -> Claim:
     """A claim whose location, quote, statement, printed value (and ``table_reading``) come from a
     ``[[claims]]`` entry."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 
-from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, from_readings
+from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings
 from silcount.papers.claims.context import Evidence
 
 
@@ -98,15 +98,14 @@ def cited_topic(c: dict, source: str, ev: Evidence) -> Claim:
         Reading(name, any(w.lower() in ref for w in words), "looked for: " + ", ".join(repr(w) for w in words))
         for name, words in tests
     ]
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "attribution",
+        readings,
+        f"{c['topic_note']} (reference list, lines {c['ref_lines']}).",
         rederived=f"cited: {c['ref_quote'][:160]}" + ("..." if len(c["ref_quote"]) > 160 else ""),
-        measured=None,
-        verdict=from_readings(readings),
-        reason=f"{c['topic_note']} (reference list, lines {c['ref_lines']}).",
-        readings=readings if len(readings) > 1 else [],
+        keep_one=False,
     )
 
 

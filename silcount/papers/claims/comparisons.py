@@ -19,9 +19,8 @@ from silcount.papers.claims.base import (
     Claim,
     Reading,
     algo,
-    claim_from_data,
     cycles,
-    from_readings,
+    judged_by_readings,
     num,
     paper_weights,
     show_readings,
@@ -76,16 +75,15 @@ def pairwise(c: dict, source: str) -> list[Claim]:
             )
         pa, pb = (_value(mdl, F.readings(mdl)[0], w, point, "printed") for mdl in (winner, other))
         out.append(
-            claim_from_data(
+            judged_by_readings(
                 c,
                 source,
                 "comparison",
-                rederived=show_readings(readings) if len(readings) > 1 else readings[0].outcome,
-                measured=None,
-                verdict=from_readings(readings),
-                reason=f"{label}, papers'-convention re-derivation; the printed closed forms give "
+                readings,
+                f"{label}, papers'-convention re-derivation; the printed closed forms give "
                 f"{algo(winner)} {num(pa)} vs {algo(other)} {num(pb)}.",
-                readings=readings if len(readings) > 1 else [],
+                rederived=show_readings(readings) if len(readings) > 1 else readings[0].outcome,
+                keep_one=False,
             )
         )
         out[-1].key = f"{c['id']} n={point['n']} m={point['m']} {scale}"
@@ -114,15 +112,12 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
             readings.append(
                 Reading(f"m = {mv}" + (f", {name}" if name else ""), ok, f"({sp.sstr(lw)}) n^2; " + "; ".join(parts))
             )
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "comparison",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason="leading cycle terms (paper weights) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
-        readings=readings,
+        readings,
+        "leading cycle terms (paper weights) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
     )
 
 
@@ -156,17 +151,14 @@ def cycle_ratio(c: dict, source: str) -> Claim:
         )
         for mv in c["m_values"]
     ]
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "comparison",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason=f"paper cycle weights, papers'-convention sums; {c['tolerance_note']} Raw counts of the printed forms: "
+        readings,
+        f"paper cycle weights, papers'-convention sums; {c['tolerance_note']} Raw counts of the printed forms: "
         + ", ".join(f"m={mv}: {r:.3f}" for mv, r in zip(c["m_values"], raw))
         + ".",
-        readings=readings,
     )
 
 
@@ -179,15 +171,12 @@ def joint_ratio(c: dict, source: str) -> Claim:
         readings.append(
             Reading(r.reading, r.holds and all(o.holds for o in others), "; ".join(x.outcome for x in [r, *others]))
         )
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "comparison",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason="both ratios of the sentence must hold under one reading; paper cycle weights.",
-        readings=readings,
+        readings,
+        "both ratios of the sentence must hold under one reading; paper cycle weights.",
     )
 
 
@@ -208,15 +197,14 @@ def equal_kinds(c: dict, source: str) -> Claim:
             for kind, v in vals.items()
         )
         readings.append(Reading(name or "as printed", ok, outcome))
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "comparison",
+        readings,
+        f"papers'-convention counts at n={c['point']['n']}, m={c['point']['m']} (Fig. 6's point).",
         rederived=show_readings(readings) if len(readings) > 1 else readings[0].outcome,
-        measured=None,
-        verdict=from_readings(readings),
-        reason=f"papers'-convention counts at n={c['point']['n']}, m={c['point']['m']} (Fig. 6's point).",
-        readings=readings if len(readings) > 1 else [],
+        keep_one=False,
     )
 
 
@@ -234,16 +222,12 @@ def differ_kinds(c: dict, source: str) -> Claim:
             (f"a difference beyond {c['negligible']:.0%}", rel > c["negligible"]),
         ):
             readings.append(Reading(", ".join(r for r in (name, how) if r), bool(ok), shown))
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "comparison",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason=f"papers'-convention {kind} counts at n={point['n']}, m={point['m']} (Fig. 6's point); "
-        + c["negligible_note"],
-        readings=readings,
+        readings,
+        f"papers'-convention {kind} counts at n={point['n']}, m={point['m']} (Fig. 6's point); " + c["negligible_note"],
     )
 
 

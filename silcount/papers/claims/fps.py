@@ -18,16 +18,7 @@ import itertools
 import sympy as sp
 
 from silcount.papers import formulas as F
-from silcount.papers.claims.base import (
-    Claim,
-    Reading,
-    algo,
-    claim_from_data,
-    cycles,
-    from_readings,
-    paper_weights,
-    show_readings,
-)
+from silcount.papers.claims.base import Claim, Reading, algo, claim_from_data, cycles, judged_by_readings, paper_weights
 
 
 def _n_readings(edges: int) -> list[tuple[str, sp.Expr]]:
@@ -56,15 +47,12 @@ def frame_time(c: dict, source: str) -> list[Claim]:
             )
         if not c.get("machine_stated", True):
             readings.append(Reading("another machine (the paper names none)", True, "any clock fast enough fits"))
-        claim = claim_from_data(
+        claim = judged_by_readings(
             c,
             source,
             "fps",
-            rederived=show_readings(readings),
-            measured=None,
-            verdict=from_readings(readings),
-            reason=f"m = {c['m']} ({c['m_note']}); {c['machine_note']}",
-            readings=readings,
+            readings,
+            f"m = {c['m']} ({c['m_note']}); {c['machine_note']}",
         )
         claim.key = f"{c['id']} {algo(model)}"
         claim.statement = f"{c['statement']}: {algo(model)} at {fps} FPS"
@@ -88,16 +76,13 @@ def fps_order(c: dict, source: str) -> Claim:
                 "fewest cycles first: " + " < ".join(f"{algo(x)} {float(vals[x]):.4g}" for x in order),
             )
         )
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "fps",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason="FPS order (fastest first) " + " > ".join(f"{algo(x)} {fps[x]}" for x in by_fps) + "; the paper "
+        readings,
+        "FPS order (fastest first) " + " > ".join(f"{algo(x)} {fps[x]}" for x in by_fps) + "; the paper "
         "names no mesh or machine, so each scene reading is tried. " + c.get("note", ""),
-        readings=readings,
     )
 
 
@@ -116,15 +101,12 @@ def fps_consistency(c: dict, source: str) -> Claim:
             "the figures are not comparable, and neither is the claimed increase",
         ),
     ]
-    return claim_from_data(
+    return judged_by_readings(
         c,
         source,
         "fps",
-        rederived=show_readings(readings),
-        measured=None,
-        verdict=from_readings(readings),
-        reason="the paper's only hedge is 'in the same PC and with different quality'.",
-        readings=readings,
+        readings,
+        "the paper's only hedge is 'in the same PC and with different quality'.",
     )
 
 
