@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -32,9 +33,13 @@ run()
 
 @pytest.mark.slow
 def test_a_wheel_installed_outside_the_tree_audits_a_mesh(tmp_path):
-    wheels, site = tmp_path / "wheels", tmp_path / "site"
+    wheels, site, src = tmp_path / "wheels", tmp_path / "site", tmp_path / "src"
+    # built from a copy: setuptools writes build/ beside the sources, and nothing may be written into the tree
+    shutil.copytree(ROOT / "silcount", src / "silcount", ignore=shutil.ignore_patterns("__pycache__"))
+    for name in ("pyproject.toml", "README.md"):  # not setup.cfg: its egg_base is the checkout's .venv
+        shutil.copy(ROOT / name, src / name)
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "--quiet"]
-    subprocess.run([*pip, "wheel", "--no-deps", "-w", str(wheels), str(ROOT)], check=True)
+    subprocess.run([*pip, "wheel", "--no-deps", "-w", str(wheels), str(src)], check=True)
     (wheel,) = wheels.glob("silcount-*.whl")
     subprocess.run([*pip, "install", "--no-deps", "--target", str(site), str(wheel)], check=True)
     env = {k: v for k, v in os.environ.items() if not k.startswith("SILCOUNT_")}
