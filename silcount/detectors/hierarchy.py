@@ -215,6 +215,16 @@ def _radix_argsort(keys, n_bits, digit_bits):  # pragma: no cover - compiled
     return idx
 
 
+@njit(cache=True, inline="always")
+def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
+    """Face ``f`` becomes local face ``nxt``, its ``p0`` and normal copied there; the next free number."""
+    local[f] = nxt
+    for c in range(3):
+        lp0[nxt, c] = p0[f, c]
+        lnrm[nxt, c] = nrm[f, c]
+    return nxt + 1
+
+
 @njit(cache=True)
 def _renumber(perm, ids, start, faces, p0, nrm):  # pragma: no cover - compiled
     """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order."""
@@ -232,21 +242,13 @@ def _renumber(perm, ids, start, faces, p0, nrm):  # pragma: no cover - compiled
         for q in range(start[e], start[e + 1]):
             f = faces[q]
             if local[f] < 0:
-                local[f] = nxt
-                for c in range(3):
-                    lp0[nxt, c] = p0[f, c]
-                    lnrm[nxt, c] = nrm[f, c]
-                nxt += 1
+                nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
             e_faces[w] = local[f]
             w += 1
         e_start[i + 1] = w
     for f in range(F):  # faces no tree edge reaches (a non-finite value)
         if local[f] < 0:
-            local[f] = nxt
-            for c in range(3):
-                lp0[nxt, c] = p0[f, c]
-                lnrm[nxt, c] = nrm[f, c]
-            nxt += 1
+            nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
     return order, e_start, e_faces[:w], local, lp0, lnrm
 
 

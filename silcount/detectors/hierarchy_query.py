@@ -53,6 +53,16 @@ def _test_edges(starts, faces, ids, lo, hi, p0, nrm, lx, ly, lz, directional, ou
     return k
 
 
+@njit(cache=True, inline="always")
+def _products(a, n_lo, n_hi):  # pragma: no cover - compiled
+    """``fl(a n_lo)`` and ``fl(a n_hi)``, smaller first (one compare, as the counted ``_ordered``)."""
+    p = a * n_lo
+    q = a * n_hi
+    if p <= q:
+        return p, q
+    return q, p
+
+
 @njit(cache=True)
 def _walk(lo, hi, bounds, boundary, nodes, e_start, e_faces, order, p0, nrm, light, directional, out, k, stats,
           tasks, task_depth, depth):  # fmt: skip  # pragma: no cover - compiled
@@ -84,19 +94,9 @@ def _walk(lo, hi, bounds, boundary, nodes, e_start, e_faces, order, p0, nrm, lig
                 a_lo = light[c] - b[9 + c]
                 a_hi = light[c] - b[6 + c]
             # the extremes of fl(a n) over a in [a_lo, a_hi], n in [b[c], b[3 + c]]: at the corners
-            p = a_lo * b[c]
-            q = a_lo * b[3 + c]
-            if p <= q:
-                lo_c, hi_c = p, q
-            else:
-                lo_c, hi_c = q, p
+            lo_c, hi_c = _products(a_lo, b[c], b[3 + c])
             if not directional:
-                p = a_hi * b[c]
-                q = a_hi * b[3 + c]
-                if p <= q:
-                    lo2, hi2 = p, q
-                else:
-                    lo2, hi2 = q, p
+                lo2, hi2 = _products(a_hi, b[c], b[3 + c])
                 if lo2 < lo_c:
                     lo_c = lo2
                 if hi2 > hi_c:
