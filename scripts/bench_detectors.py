@@ -249,7 +249,7 @@ def _child_fast(mesh, name, variant, out):
         silcount.detect(mesh, ls[1], name, variant, "fast")
         t2 = time.perf_counter() - t
         maxrss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-        out.put(("ok", t1, t2, maxrss, r.n_edges, r.tally, r.notes.get("disagreement_with_reference")))
+        out.put(("ok", t1, t2, maxrss, r.n_edges, r.tally, r.agreement["disagreement_with_reference"]))
     except Exception as exc:  # reported, not hidden
         out.put(("error", f"{type(exc).__name__}: {exc}"))
 

@@ -64,7 +64,7 @@ def test_eesd_is_subset_of_reference_and_reports_missed(ml):
     res = silcount.detect(mesh, light, "eesd", variant="intended")
     missed = edge_set(ref) - edge_set(res)
     assert edge_set(res) <= edge_set(ref)
-    assert res.notes["missed_edges"] == len(missed)
+    assert res.agreement["missed_edges"] == len(missed)
 
 
 @SETTINGS
@@ -76,8 +76,8 @@ def test_literal_variants_report_their_disagreement(ml):
     for name in ("ta", "vnv", "hsd", "eesd"):
         lit = silcount.detect(mesh, light, name, variant="literal")
         got = edge_set(lit)
-        assert (lit.notes["missed_edges"], lit.notes["extra_edges"]) == (len(rule - got), len(got - rule)), name
-        assert lit.notes["disagreement_with_reference"] == len(rule ^ got), name
+        assert (lit.agreement["missed_edges"], lit.agreement["extra_edges"]) == (len(rule - got), len(got - rule)), name
+        assert lit.agreement["disagreement_with_reference"] == len(rule ^ got), name
         if name in ("ta", "vnv"):  # literal TA leaves the unlit edges in S; literal VnV reports at most edge 0
             assert got != rule, name
 

@@ -7,7 +7,9 @@ import pytest
 
 import silcount
 from silcount import DirectionalLight
-from silcount.detectors.base import compare_with_reference, unique_ids
+from silcount.detectors import result
+from silcount.detectors.base import unique_ids
+from silcount.detectors.result import compare_with_reference
 
 
 @pytest.mark.parametrize(
@@ -50,5 +52,17 @@ def test_every_result_carries_the_mesh_sizes_the_paper_models_take(name):
     cube = silcount.builtin_mesh("quad_cube")
     res = silcount.detect(cube, DirectionalLight((0.2, 0.3, 1.0)), name)
     assert {k: res.paper_params[k] for k in ("e_n", "f_n", "m")} == {"e_n": 12, "f_n": 6, "m": 4.0}
-    # every detector but the reference is compared with the reference; the reference is not compared with itself
-    assert ("missed_edges" in res.notes) == (name != "reference")
+    assert "missed_edges" not in res.notes  # the comparison with the reference is res.agreement, on request
+
+
+@pytest.mark.parametrize("name", ["reference", "ta", "vnv", "hsd", "eesd", "gaussmap", "cones"])
+def test_detect_runs_no_reference_detection_until_agreement_is_asked_for(name, monkeypatch):
+    calls = []
+    real = result.silhouette_edge_ids
+    monkeypatch.setattr(result, "silhouette_edge_ids", lambda mesh, light: calls.append(1) or real(mesh, light))
+    cube = silcount.builtin_mesh("quad_cube")
+    res = silcount.detect(cube, DirectionalLight((0.2, 0.3, 1.0)), name)
+    assert calls == []
+    assert res.agreement == {"missed_edges": 0, "extra_edges": 0, "disagreement_with_reference": 0}
+    assert res.agreement is res.agreement  # computed once
+    assert len(calls) == (0 if name == "reference" else 1)  # the reference agrees with itself without a rerun

@@ -100,7 +100,7 @@ def test_a_facing_value_of_exactly_zero_is_not_lit(light, ties, engine):
         res = run(CUBE, light, name, engine=engine)
         assert named(res) == X_FACE, name
         assert res.ties == ties, name
-        assert res.notes.get("missed_edges", 0) == 0 and res.notes.get("extra_edges", 0) == 0, name
+        assert res.agreement["missed_edges"] == 0 and res.agreement["extra_edges"] == 0, name
     lit = run(CUBE, light, "vnv", "literal", engine)  # one lit face: the counter is 1 after edge 0 only
     assert lit.edge_ids.tolist() == [0] and lit.steps["counter"] == CUBE.n_edges
     ta = run(CUBE, light, "ta", engine=engine)
@@ -190,7 +190,7 @@ def test_inconsistently_wound_pair_both_lit(engine):
     for name in ("ta", "hsd"):  # both append A -> B (no B -> A to cancel): A-B stays, twice
         res = run(FOLD, light, name, engine=engine)
         assert named(res) == others | E((A, B)), name
-        assert res.notes["duplicates_in_S"] == 1 and res.notes["extra_edges"] == 1, name
+        assert res.notes["duplicates_in_S"] == 1 and res.agreement["extra_edges"] == 1, name
     lit = run(FOLD, light, "vnv", "literal", engine)
     assert lit.n_edges == 0 and lit.steps["counter"] == 2 * FOLD.n_edges  # two lit faces: 2, 4, ...
 

@@ -51,7 +51,7 @@ def test_tetrahedron_intended_by_hand():
     # others meet their second face: the reference silhouette, ids 0, 1, 3.
     m = silcount.builtin_mesh("tetrahedron")
     res = both_engines(m, silcount.PointLight((5.0, 5.0, 5.0)), "intended")
-    assert res.edge_ids.tolist() == [0, 1, 3] and res.notes["missed_edges"] == 0
+    assert res.edge_ids.tolist() == [0, 1, 3] and res.agreement["missed_edges"] == 0
     # E = 6, F = T = 4: 24 edge-face pairs, 24 triangle tests
     assert res.steps == {"extend": 6, "ray": 6, "intersection": 24, "triangle_test": 24, "check_hits": 6, "add": 3}
     expected = tally(
@@ -97,7 +97,7 @@ def test_quad_cube_literal_by_hand():
     m = silcount.builtin_mesh("quad_cube")
     res = both_engines(m, silcount.PointLight((0.0, 0.0, 10.0)), "literal")
     assert res.n_edges == 12 and res.notes["S_length"] == 72 and res.notes["duplicates_in_S"] == 60
-    assert res.notes["on_plane_pairs"] == 0 and res.notes["extra_edges"] == 8
+    assert res.notes["on_plane_pairs"] == 0 and res.agreement["extra_edges"] == 8
     assert res.steps == {"plane": 6, "extend": 12, "ray": 12, "intersection": 72, "add": 72}
     expected = tally(
         (6, PLANE), (12, EXTEND), (12, RAY), (12, {"read": EDGE_READS}), (72, PAIR_LITERAL), (72, {"write": 1})
@@ -136,7 +136,7 @@ def test_intended_equals_reference_on_convex_hulls(data):
     assert np.array_equal(res.edges, ref.edges) and np.array_equal(res.oriented, ref.oriented)
     # literal adds every edge of a closed mesh (a point off all face planes at once): extra edges
     lit = silcount.detect(mesh, light, "eesd", "literal")
-    assert lit.n_edges == mesh.n_edges and lit.notes["extra_edges"] == mesh.n_edges - ref.n_edges > 0
+    assert lit.n_edges == mesh.n_edges and lit.agreement["extra_edges"] == mesh.n_edges - ref.n_edges > 0
 
 
 @settings(max_examples=examples(30), deadline=None)
@@ -150,7 +150,7 @@ def test_intended_is_a_subset_of_reference_on_tori(data):
     ref_set = {tuple(e) for e in ref.edges.tolist()}
     got = {tuple(e) for e in res.edges.tolist()}
     assert got <= ref_set
-    assert res.notes["extra_edges"] == 0 and res.notes["missed_edges"] == len(ref_set - got)
+    assert res.agreement["extra_edges"] == 0 and res.agreement["missed_edges"] == len(ref_set - got)
 
 
 def test_torus_self_occlusion_is_reported():
@@ -161,7 +161,7 @@ def test_torus_self_occlusion_is_reported():
     ref = silcount.detect(m, light, "reference")
     res = silcount.detect(m, light, "eesd")
     assert set(map(tuple, res.edges.tolist())) < set(map(tuple, ref.edges.tolist()))
-    assert res.notes["missed_edges"] == ref.n_edges - res.n_edges > 0
+    assert res.agreement["missed_edges"] == ref.n_edges - res.n_edges > 0
 
 
 def test_shared_meshes_subset(shared_mesh):
@@ -171,7 +171,7 @@ def test_shared_meshes_subset(shared_mesh):
         ref = silcount.detect(mesh, light, "reference")
         res = silcount.detect(mesh, light, "eesd")
         missed = np.setdiff1d(ref.edge_ids, res.edge_ids)
-        assert res.notes["missed_edges"] == missed.size
+        assert res.agreement["missed_edges"] == missed.size
         if mesh.is_watertight:
             assert np.setdiff1d(res.edge_ids, ref.edge_ids).size == 0
 

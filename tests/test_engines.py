@@ -134,7 +134,7 @@ def test_edges_and_disagreement_match_a_second_implementation(data, name, varian
     assert got == want
     if name != "reference":
         ref = reference_edges(mesh, flags)
-        assert res.notes["missed_edges"] == len(ref - got) and res.notes["extra_edges"] == len(got - ref)
+        assert res.agreement["missed_edges"] == len(ref - got) and res.agreement["extra_edges"] == len(got - ref)
 
 
 @_settings(30)

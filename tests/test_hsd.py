@@ -193,7 +193,7 @@ def test_facets_hide_real_silhouette_edges(shared_mesh):
     assert edge in set(ref.edge_ids.tolist())
     literal = silcount.detect(m, light, "hsd", "literal")
     assert edge not in set(literal.edge_ids.tolist())
-    assert literal.notes["reference_edges_inside_polygons"] >= 1 and literal.notes["missed_edges"] >= 1
+    assert literal.notes["reference_edges_inside_polygons"] >= 1 and literal.agreement["missed_edges"] >= 1
     intended = silcount.detect(m, light, "hsd", "intended")
     assert np.array_equal(intended.edges, ref.edges)
     assert intended.notes["reference_edges_inside_polygons"] == 0
@@ -226,7 +226,7 @@ def test_a_fold_inside_a_facet_is_a_hidden_silhouette_edge():
         assert good.notes["merge"]["criterion"] == "tight" and bad.notes["merge"]["criterion"] == "facets"
         assert good.notes["reference_edges_inside_polygons"] == 0 and diagonal in good.edge_ids.tolist()
         assert bad.notes["reference_edges_inside_polygons"] == 1 and diagonal not in bad.edge_ids.tolist()
-        assert bad.notes["missed_edges"] >= 1
+        assert bad.agreement["missed_edges"] >= 1
 
 
 def test_defaults_are_the_intended_variant_and_the_fast_engine():

@@ -69,8 +69,8 @@ def check_exact(mesh, light, name, leaf_size, fanout, naive: bool) -> None:
     fast = mod.detect(mesh, light, engine="fast", leaf_size=leaf_size, fanout=fanout)
     ref = reference_ids(mesh, light)
     assert np.array_equal(fast.edge_ids, ref), (name, leaf_size, fanout, light)
-    assert fast.notes["missed_edges"] == fast.notes["extra_edges"] == 0
-    assert fast.notes["disagreement_with_reference"] == 0
+    assert fast.agreement["missed_edges"] == fast.agreement["extra_edges"] == 0
+    assert fast.agreement["disagreement_with_reference"] == 0
     assert fast.notes["leaf_size"] == leaf_size and fast.notes["fanout"] == fanout
     assert fast.steps["add"] == ref.size
     if naive and mesh.n_faces <= NAIVE_MAX_FACES:

@@ -103,7 +103,7 @@ def test_literal_start_by_hand():
         res = silcount.detect(m, light, "ta", variant="literal", engine=engine)
         assert res.steps == {"visibility": 6, "search_S": 4, "delete": 2, "add": 2, "shift": 6 + 9, "init_S": 12}
         assert res.n_edges == 10 and res.notes["duplicates_in_S"] == 2 and res.notes["S_length"] == 12
-        assert res.notes["missed_edges"] == 2 and res.notes["extra_edges"] == 8
+        assert res.agreement["missed_edges"] == 2 and res.agreement["extra_edges"] == 8
         # true, beyond the intended run's visibility (6 x VIS_POINT) and facing face (2 R):
         # init 12 x (2R 1M 2A 1W); 4 sides (8R 4M 4A); examined 12+13+8+4 = 37 (37R 37C);
         # 2 deletes (2A) shifting 15 (15R 15W); 2 adds (2M 4A 2W)
@@ -178,7 +178,7 @@ def test_inconsistent_winding_leaves_a_duplicate():
     assert m.inconsistent_edges.size == 1
     res = silcount.detect(m, silcount.DirectionalLight((0, 0, 1)), "ta")
     assert res.n_edges == 5 and res.notes["duplicates_in_S"] == 1
-    assert res.notes["extra_edges"] == 1 and res.notes["missed_edges"] == 0
+    assert res.agreement["extra_edges"] == 1 and res.agreement["missed_edges"] == 0
 
 
 @settings(max_examples=examples(200), deadline=None)

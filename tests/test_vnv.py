@@ -60,7 +60,7 @@ def test_tetrahedron_literal_by_hand():
     # Never reset, never checks containment: the counter reads 3, 6, ..., 18 after the edges: never 1.
     m = silcount.builtin_mesh("tetrahedron")
     res = both_engines(m, silcount.PointLight((5.0, 5.0, 5.0)), "literal")
-    assert res.n_edges == 0 and res.notes["missed_edges"] == 3
+    assert res.n_edges == 0 and res.agreement["missed_edges"] == 3
     assert res.steps == {"visibility": 24, "counter": 18, "check_counter": 6, "add": 0}
     assert res.tally["true"] == {"add": 24 * 14 + 18, "mul": 216, "cmp": 24 + 6, "read": 24 * 16, "write": 0}
     assert res.tally["paper"] == {"add": 24 * 8 + 18, "mul": 240, "cmp": 24 + 6, "read": 24 * 8 + 6, "write": 0}
@@ -91,7 +91,7 @@ def test_quad_cube_by_hand():
     # (a bottom-left edge, not on the top face) is reported and the 4 true ones are missed.
     res = both_engines(m, silcount.PointLight((0.0, 0.0, 10.0)), "literal")
     assert res.edges.tolist() == [[0, 1]]
-    assert res.notes["missed_edges"] == 4 and res.notes["extra_edges"] == 1
+    assert res.agreement["missed_edges"] == 4 and res.agreement["extra_edges"] == 1
     assert res.notes["reset_reading_edges"] == 12
     assert res.steps == {"visibility": 72, "counter": 12, "check_counter": 12, "add": 1}
 
@@ -127,9 +127,9 @@ def test_intended_equals_reference_and_literal_disagrees(data):
     assert ref.n_edges >= 3
     in_ref = 0 in ref.edge_ids.tolist()
     if n_facing == 1:
-        assert (lit.notes["missed_edges"], lit.notes["extra_edges"]) == (ref.n_edges - in_ref, 1 - in_ref)
+        assert (lit.agreement["missed_edges"], lit.agreement["extra_edges"]) == (ref.n_edges - in_ref, 1 - in_ref)
     else:
-        assert (lit.notes["missed_edges"], lit.notes["extra_edges"]) == (ref.n_edges, 0)
+        assert (lit.agreement["missed_edges"], lit.agreement["extra_edges"]) == (ref.n_edges, 0)
 
 
 def test_open_triangle_soup(shared_mesh):

@@ -46,7 +46,7 @@ import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, variants_of
+from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, differences, variants_of
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -155,10 +155,8 @@ def _one_run(
         elapsed = time.perf_counter() - t0
     else:
         res, elapsed = given
-    ref_ids = ref.edge_ids
-    # both are ascending distinct ids (Silhouette.edge_ids): no hashing or re-sorting
-    missed = int(np.setdiff1d(ref_ids, res.edge_ids, assume_unique=True).size)
-    extra = int(np.setdiff1d(res.edge_ids, ref_ids, assume_unique=True).size)
+    diff = differences(res.edge_ids, ref.edge_ids)  # the audit's one reference run, for every detector
+    missed, extra = diff["missed_edges"], diff["extra_edges"]
     tallies = {model: {k: int(v) for k, v in sorted(t.items(), key=_kind_order)} for model, t in res.tally.items()}
     out = {
         "detector": name,

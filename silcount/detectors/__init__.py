@@ -33,7 +33,7 @@ from collections.abc import Callable, Sequence
 
 from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
 from silcount.detectors.base import ENGINES, VARIANTS
-from silcount.detectors.result import Silhouette
+from silcount.detectors.result import Silhouette, compare_with_reference, differences
 from silcount.errors import check_choice
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -109,4 +109,6 @@ __all__ = [
     "detect_many",
     "variants_of",
     "Silhouette",
+    "compare_with_reference",
+    "differences",
 ]

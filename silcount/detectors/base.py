@@ -19,7 +19,6 @@ import numpy as np
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import silhouette_edge_ids
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh, from_polygons
@@ -148,12 +147,11 @@ def make_silhouette(
     """Assemble a :class:`Silhouette`: sorted unique edges, both cost models; ``edges`` and ``oriented`` lazily.
 
     ``is_facing`` (or a function returning it) gives :func:`oriented_edges`
-    unless ``orient`` (called with the ascending ids) is given.
+    unless ``orient`` (called with the ascending ids) is given.  No reference
+    detection is run here: :attr:`.result.Silhouette.agreement` does that when asked.
     """
     ids = unique_ids(edge_ids)
     notes = dict(notes or {})
-    if detector != "reference":
-        notes.update(compare_with_reference(mesh, light, ids))
     params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
     if paper_params:
         params.update(paper_params)
@@ -177,21 +175,9 @@ def make_silhouette(
         ties=ties,
         notes=notes,
         mesh=mesh,
+        light=light,
         orient=oriented,
     )
-
-
-def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> dict[str, int]:
-    """How an edge set differs from the reference silhouette (counts of edges).
-
-    ``missed_edges``: reference edges not found; ``extra_edges``: edges found
-    that the reference does not have; ``disagreement_with_reference``: both.
-    Every non-reference result carries these notes, so no disagreement is hidden.
-    """
-    ref = silhouette_edge_ids(mesh, light)
-    missed = int(np.setdiff1d(ref, edge_ids, assume_unique=True).size)
-    extra = int(np.setdiff1d(edge_ids, ref, assume_unique=True).size)
-    return {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
 
 
 __all__ = [

@@ -50,7 +50,7 @@ Variants
     counter, as VnV's).  On convex meshes this is the reference silhouette;
     on non-convex ones a silhouette edge whose ``P`` is hidden
     behind another part of the mesh is missed (a subset of the reference,
-    ``notes['missed_edges']``).  On a closed mesh a line that passes through
+    ``agreement['missed_edges']``).  On a closed mesh a line that passes through
     the solid meets its surface, so only the edges of the *outline* (the
     boundary of the mesh's projection from the light) survive: 202 of the
     cow's 765 contour edges for one light at 3 radii.  A face seen within about

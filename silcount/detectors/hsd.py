@@ -24,7 +24,7 @@ Variants
     the paper's "same normal vectors" read loosely, as ``trimesh`` facets
     (an angle tolerance): real silhouette edges can fall inside a polygon and
     are lost (``notes['reference_edges_inside_polygons']``,
-    ``notes['missed_edges']``).
+    ``agreement['missed_edges']``).
 
 Cost
 ----

@@ -3,7 +3,10 @@
 The ``paper`` tally is ``sum(steps x annotated cost)`` from ``silcount/models/``
 (:func:`silcount.counting.models.paper_tally`), memoised per (model, mesh
 parameters, step) so that sympy runs once per key; the ``true`` tally is what
-the detector's engine observed or charged.
+the detector's engine observed or charged.  How the edges differ from the
+reference silhouette is computed only when asked for (:attr:`Silhouette.agreement`,
+:func:`compare_with_reference`, :func:`differences`): a detection never runs a
+second, reference detection of its own.
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ import numpy as np
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
+from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 
@@ -40,6 +45,7 @@ class Silhouette:
     ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
     notes: dict[str, Any] = field(default_factory=dict)
     mesh: Mesh | None = field(default=None, repr=False)  # the mesh the ids index
+    light: Light | None = field(default=None, repr=False)  # the light they answer
     orient: Callable[[], np.ndarray] | None = field(default=None, repr=False)  # computes ``oriented``
 
     @cached_property
@@ -63,6 +69,33 @@ class Silhouette:
     def n_edges(self) -> int:
         return int(self.edge_ids.size)
 
+    @cached_property
+    def agreement(self) -> dict[str, int]:
+        """:func:`compare_with_reference` of these edges, on first access (one reference kernel run).
+
+        The reference detector's own result agrees with itself: zeros, without a second run.
+        """
+        if self.detector == "reference":
+            return differences(self.edge_ids, self.edge_ids)
+        assert self.mesh is not None and self.light is not None
+        return compare_with_reference(self.mesh, self.light, self.edge_ids)
+
+
+def differences(found: np.ndarray, reference: np.ndarray) -> dict[str, int]:
+    """How ascending distinct edge ids ``found`` differ from ``reference`` (counts of edges).
+
+    ``missed_edges``: reference edges not found; ``extra_edges``: edges found
+    that the reference does not have; ``disagreement_with_reference``: both.
+    """
+    missed = int(np.setdiff1d(reference, found, assume_unique=True).size)
+    extra = int(np.setdiff1d(found, reference, assume_unique=True).size)
+    return {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
+
+
+def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> dict[str, int]:
+    """:func:`differences` of ascending distinct ``edge_ids`` from the reference silhouette of ``mesh``, ``light``."""
+    return differences(edge_ids, silhouette_edge_ids(mesh, light))
+
 
 @cache
 def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) -> tuple[tuple[str, int], ...]:
@@ -80,4 +113,4 @@ def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> 
     return total
 
 
-__all__ = ["Silhouette", "paper_tally"]
+__all__ = ["Silhouette", "compare_with_reference", "differences", "paper_tally"]

@@ -18,7 +18,7 @@ Variants
     An edge whose faces both face away is then never touched and stays in S,
     and a light-facing side that runs lower -> higher finds no reverse and is
     appended beside its initial copy: the output differs from the reference
-    (``notes['missed_edges']``, ``notes['extra_edges']``).  Building the
+    (``agreement['missed_edges']``, ``agreement['extra_edges']``).  Building the
     initial array is the step ``init_S`` (2 reads, 1 mul, 1 add to pack, one
     append per edge); the paper does not cost it.
 

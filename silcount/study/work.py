@@ -66,7 +66,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import KINDS
 from silcount.counting.cycles import Profile, builtin_profiles
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, variants_of
+from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, differences, variants_of
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -183,14 +183,15 @@ def light_record(light: Light) -> dict:
     }
 
 
-def run_record(res: Silhouette, settings: Settings, profiles: dict[str, Profile], edges: int) -> dict:
-    """One detector's result under one light: edges, agreement with the reference, edges visited (of ``edges``),
-    steps, tallies and cycles per model."""
+def run_record(res: Silhouette, ref: Silhouette, settings: Settings, profiles: dict[str, Profile], edges: int) -> dict:
+    """One detector's result under one light: edges, agreement with the reference ``ref`` (the same light's),
+    edges visited (of ``edges``), steps, tallies and cycles per model."""
     visited = res.steps.get(VISITED_STEP.get(res.detector, ""))
+    diff = differences(res.edge_ids, ref.edge_ids)
     out: dict[str, int | float | None] = {
         "silhouette_edges": res.n_edges,
-        "missed_edges": int(res.notes.get("missed_edges", 0)),
-        "extra_edges": int(res.notes.get("extra_edges", 0)),
+        "missed_edges": diff["missed_edges"],
+        "extra_edges": diff["extra_edges"],
         "edges_visited": None if visited is None else int(visited),
         "edges_visited_fraction": None if visited is None else int(visited) / max(edges, 1),
     }
@@ -293,7 +294,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
                 res = refs[i]
             else:
                 res = detect(mesh, light, name, variant=variant, engine=settings.engine)
-            row.update(run_record(res, settings, profiles, mesh.n_edges))
+            row.update(run_record(res, refs[i], settings, profiles, mesh.n_edges))
             rows.append(row)
             if key not in builds and (built := build_record(res)) is not None:
                 builds[key] = built  # light-independent: the first light's
