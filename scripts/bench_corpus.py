@@ -1,16 +1,24 @@
-"""Benchmark `silcount corpus` on the shared corpus: wall time with 1 and with 2 workers, peak memory per worker.
+"""Benchmark `silcount corpus` on the shared corpus: wall time per worker count, peak memory per worker.
 
 Settings of issue 13: every file of the corpus (``SILCOUNT_CORPUS_DIR``, else
 ``../shared/corpus`` beside the repository, else the folder given), 64
-directional lights, every detector (``intended``; seven since gaussmap and cones joined, the
-README's issue-13 figures were taken with the first five) on the ``fast`` engine,
-Dask's local ``processes`` scheduler, no cache, no timing of the plain loops
-(``--with-time`` adds it).  Each configuration runs in a fresh Python process
-so that ``getrusage(RUSAGE_CHILDREN).ru_maxrss`` is the peak resident memory
-of *its* worker processes (the largest one), beside the client's own peak.
-The ratio line compares the two runs of this invocation.
+directional lights, every detector (``intended``: the papers' four, the
+reference, gaussmap and cones) on the ``fast`` engine, Dask's local
+``processes`` scheduler, no cache, no timing of the plain loops (``--with-time``
+adds it).  Each configuration runs in a fresh Python process so that
+``getrusage(RUSAGE_CHILDREN).ru_maxrss`` is the peak resident memory of *its*
+worker processes (the largest one), beside the client's own peak.
 
-    python scripts/bench_corpus.py [CORPUS_DIR] [--workers 1,2] [--subdivide 0] [--with-time]
+``--workers`` lists configurations: ``N`` is N workers, each running numba's
+kernels on ``cores // N`` threads (the sweep's rule, docs/corpus.md); ``NxT``
+pins numba to T threads in every process (``NUMBA_NUM_THREADS``), so ``1x1``
+is the one-core baseline of a pure scale-out ratio.  ``--baseline-tree DIR``
+runs every configuration a second time with the package imported from DIR (a
+checkout of an earlier commit; ``PYTHONPATH``), and prints the ratios.  The
+ratio lines compare runs of this invocation.
+
+    python scripts/bench_corpus.py [CORPUS_DIR] [--workers 1x1,1,2] [--subdivide 0] [--with-time]
+                                   [--baseline-tree DIR]
 """
 
 from __future__ import annotations
@@ -64,12 +72,37 @@ def one(folder: Path, workers: int, levels: list[int], with_time: bool) -> dict:
     }
 
 
+def run_config(folder: Path, config: str, args, tree: str | None) -> dict:
+    """One configuration (``N`` or ``NxT``) in a fresh process; the package from ``tree`` when given."""
+    workers, _, threads = config.partition("x")
+    env = dict(os.environ)
+    if threads:
+        env["NUMBA_NUM_THREADS"] = threads
+    if tree:
+        env["PYTHONPATH"] = str(Path(tree).resolve())
+    cmd = [sys.executable, __file__, str(folder), "--one", workers, "--subdivide", args.subdivide]
+    out = subprocess.run(cmd + (["--with-time"] if args.with_time else []), capture_output=True, text=True, env=env)
+    if out.returncode:
+        sys.exit(f"{config} ({tree or 'this tree'}): failed:\n{out.stderr}")
+    return json.loads(out.stdout.strip().splitlines()[-1]) | {"config": config}
+
+
+def show(label: str, r: dict) -> None:
+    verdict = "under" if r["wall_s"] < TARGET_S else "OVER"
+    print(
+        f"{label:24s} {r['wall_s']:8.1f} s wall ({verdict} the {TARGET_S:.0f} s target), "
+        f"{r['meshes']} meshes ({r['failed']} failed), {r['faces']:,} faces, {r['rows']:,} rows; "
+        f"peak RSS: largest worker {r['worker_peak_mib']:.0f} MiB, client {r['client_peak_mib']:.0f} MiB"
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?")
-    ap.add_argument("--workers", default="1,2")
+    ap.add_argument("--workers", default="1x1,1,2", help="configurations N or NxT (default 1x1,1,2)")
     ap.add_argument("--subdivide", default="0")
     ap.add_argument("--with-time", action="store_true")
+    ap.add_argument("--baseline-tree", default=None, help="a checkout of an earlier commit to compare with")
     ap.add_argument("--one", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     folder = corpus_dir(args.folder)
@@ -78,28 +111,21 @@ def main() -> None:
         print(json.dumps(one(folder, args.one, levels, args.with_time)))
         return
     print(
-        f"corpus {folder}, levels {levels}, 64 directional lights, 5 detectors intended, fast engine, "
+        f"corpus {folder}, levels {levels}, 64 directional lights, 7 detectors intended, fast engine, "
         f"processes scheduler, {'with' if args.with_time else 'no'} plain-loop timing; load {os.getloadavg()[0]:.1f}"
     )
-    runs = []
-    for workers in [int(v) for v in args.workers.split(",")]:
-        cmd = [sys.executable, __file__, str(folder), "--one", str(workers), "--subdivide", args.subdivide]
-        out = subprocess.run(cmd + (["--with-time"] if args.with_time else []), capture_output=True, text=True)
-        if out.returncode:
-            sys.exit(f"{workers} workers: failed:\n{out.stderr}")
-        r = json.loads(out.stdout.strip().splitlines()[-1])
-        runs.append(r)
-        verdict = "under" if r["wall_s"] < TARGET_S else "OVER"
-        print(
-            f"{workers} worker(s): {r['wall_s']:8.1f} s wall ({verdict} the {TARGET_S:.0f} s target), "
-            f"{r['meshes']} meshes ({r['failed']} failed), {r['faces']:,} faces, {r['rows']:,} rows; "
-            f"peak RSS: largest worker {r['worker_peak_mib']:.0f} MiB, client {r['client_peak_mib']:.0f} MiB"
-        )
-    by_workers = {r["workers"]: r for r in runs}
-    if 1 in by_workers:
-        for r in runs:
-            if r["workers"] != 1:
-                print(f"speed-up of {r['workers']} workers over 1: {by_workers[1]['wall_s'] / r['wall_s']:.2f}x")
+    runs = {}
+    for config in args.workers.split(","):
+        runs[config] = run_config(folder, config, args, None)
+        show(f"{config} (this tree)", runs[config])
+        if args.baseline_tree:
+            base = run_config(folder, config, args, args.baseline_tree)
+            show(f"{config} (baseline)", base)
+            print(f"{'':24s} this tree is {base['wall_s'] / runs[config]['wall_s']:.2f}x the baseline's speed")
+    for one_ in ("1x1", "1"):
+        for config, r in runs.items():
+            if one_ in runs and config not in ("1x1", "1"):
+                print(f"speed-up of {config} over {one_}: {runs[one_]['wall_s'] / r['wall_s']:.2f}x")
     print(f"load average after: {os.getloadavg()[0]:.1f} (figures taken under this load)")
 
 

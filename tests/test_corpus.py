@@ -188,6 +188,29 @@ def test_an_interrupted_sweep_resumes_from_the_cache(folder, tmp_path, monkeypat
     assert len(calls) == 4 and changed["settings"]["lights"] == 4  # other settings, other entries
 
 
+def test_the_largest_units_start_first_and_run_on_the_cores_per_worker(folder, monkeypatch):
+    import numba
+
+    real = schedule_mod.audit_task
+    started: list[tuple[str, int, int]] = []
+
+    def record(label, data, level, settings):
+        started.append((label, level, numba.get_num_threads()))
+        return real(label, data, level, settings)
+
+    monkeypatch.setattr(schedule_mod, "audit_task", record)
+    monkeypatch.setattr(schedule_mod.os, "cpu_count", lambda: 4)
+    result = corpus([folder], cache=False, subdivide=(0, 1), **SMALL)
+    sizes = {p.name: p.stat().st_size for p in folder.rglob("*.obj")}
+    cost = [sizes[Path(label).name] * 4**level for label, level, _ in started]
+    assert len(started) == 8 and cost == sorted(cost, reverse=True)  # one worker: strictly in cost order
+    assert {t for *_, t in started} == {min(4, numba.config.NUMBA_NUM_THREADS)}  # 4 cores // 1 worker
+    assert result.document == corpus([folder], cache=False, subdivide=(0, 1), **SMALL).document
+    started.clear()
+    corpus([folder], cache=False, **{**SMALL, "workers": 4})
+    assert {t for *_, t in started} == {1}  # 4 cores // 4 workers
+
+
 def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
     from silcount.cli.main import main
 

@@ -4,7 +4,9 @@ The test starts ``dask scheduler`` and two ``dask worker`` processes (the
 venv's ``dask`` command, on 127.0.0.1 with free ports, in a folder of their
 own), sends a small corpus to them and stops them; the document must equal
 the in-process run's, field for field, and the local ``processes``
-scheduler's with two workers too.
+scheduler's with two workers too.  A worker killed (SIGKILL) in the middle of a
+sweep loses nothing: the scheduler runs its unit again on the other worker and
+the document is the in-process run's.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -83,7 +86,7 @@ def cluster(tmp_path):
         )
     try:
         wait_for_workers(address, 2, procs)
-        yield address
+        yield address, procs
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -96,15 +99,47 @@ def cluster(tmp_path):
 
 
 def test_a_real_cluster_gives_the_in_process_results(cluster, tmp_path):
+    address, _ = cluster
     folder = tmp_path / "meshes"
     folder.mkdir()
     for name in ("tetrahedron.obj", "quad_cube.obj", "icosphere1.obj", "torus.obj"):
         shutil.copy(DATA / name, folder / name)
     (folder / "broken.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
     here = corpus([folder], scheduler="threads", workers=1, **SETTINGS)
-    there = corpus([folder], scheduler=cluster, **SETTINGS)
+    there = corpus([folder], scheduler=address, **SETTINGS)
     assert there.document == here.document
     assert there.rows.equals(here.rows) and there.meshes.equals(here.meshes)
     assert here.failed == 2 and len(here.rows) == 4 * 2 * 2 * 7  # broken.off at both levels; seven detectors
     local = corpus([folder], scheduler="processes", workers=2, **SETTINGS)
     assert local.document == here.document
+
+
+def test_a_worker_killed_mid_sweep_loses_nothing(cluster, tmp_path):
+    address, procs = cluster
+    folder = tmp_path / "meshes"
+    folder.mkdir()
+    names = ("icosphere3.obj", "torus.obj", "icosphere2.obj", "quad_cube.obj", "icosphere1.obj", "tetrahedron.obj")
+    for name in names:
+        shutil.copy(DATA / name, folder / name)
+    settings = {**SETTINGS, "lights": 4, "subdivide": (0, 1), "cache": None}
+    here = corpus([folder], scheduler="threads", workers=1, **settings)
+    cache = tmp_path / "cache"
+    got: dict = {}
+
+    def run() -> None:
+        got["r"] = corpus([folder], scheduler=address, **{**settings, "cache": cache})
+
+    sweep = threading.Thread(target=run)
+    sweep.start()
+    deadline = time.monotonic() + 120
+    while not list(cache.glob("*.json")) and time.monotonic() < deadline:  # the first unit has finished
+        time.sleep(0.05)
+    done_at_kill = len(list(cache.glob("*.json")))
+    procs[1].kill()  # a worker, with units still to run: one of them is on it
+    procs[1].wait()
+    sweep.join(timeout=300)
+    assert not sweep.is_alive() and 1 <= done_at_kill < 2 * len(names)
+    there = got["r"]
+    assert there.failed == 0, there.meshes["error"].dropna().tolist()
+    assert there.document == here.document
+    assert there.rows.equals(here.rows) and there.meshes.equals(here.meshes)
