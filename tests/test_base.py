@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import silcount
 from silcount import DirectionalLight
 from silcount.detectors import result
 from silcount.detectors.base import unique_ids
-from silcount.detectors.result import compare_with_reference
+from silcount.detectors.result import compare_with_reference, differences
 
 
 @pytest.mark.parametrize(
@@ -66,3 +68,10 @@ def test_detect_runs_no_reference_detection_until_agreement_is_asked_for(name, m
     assert res.agreement == {"missed_edges": 0, "extra_edges": 0, "disagreement_with_reference": 0}
     assert res.agreement is res.agreement  # computed once
     assert len(calls) == (0 if name == "reference" else 1)  # the reference agrees with itself without a rerun
+
+
+@given(st.sets(st.integers(0, 60)), st.sets(st.integers(0, 60)))
+def test_differences_are_the_set_differences(found, reference):
+    got = differences(np.array(sorted(found), dtype=np.int64), np.array(sorted(reference), dtype=np.int64))
+    missed, extra = len(reference - found), len(found - reference)
+    assert got == {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}

@@ -111,6 +111,7 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
+from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
@@ -172,38 +173,63 @@ def _light_vals(light: Light) -> np.ndarray:
     return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
 
 
+@njit(cache=True, error_model="numpy")  # an end-on edge (w = 0) divides by zero: inf or NaN, as numpy's
+def _outward(V, edges, apex, L, directional, eps):  # pragma: no cover - compiled
+    """``P`` of every edge: :func:`.eesd_counted.counted_outward_point`, operation for operation."""
+    E = edges.shape[0]
+    p = np.empty((E, 3))
+    for i in range(E):
+        a, b, c = edges[i, 0], edges[i, 1], apex[i]
+        m0 = (V[a, 0] + V[b, 0]) * 0.5
+        m1 = (V[a, 1] + V[b, 1]) * 0.5
+        m2 = (V[a, 2] + V[b, 2]) * 0.5
+        e0, e1, e2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
+        if directional:
+            d0, d1, d2 = L[0], L[1], L[2]
+        else:
+            d0, d1, d2 = m0 - L[0], m1 - L[1], m2 - L[2]
+        w0 = d1 * e2 - d2 * e1
+        w1 = d2 * e0 - d0 * e2
+        w2 = d0 * e1 - d1 * e0
+        side = (V[c, 0] - m0) * w0 + (V[c, 1] - m1) * w1 + (V[c, 2] - m2) * w2
+        sgn = -1.0 if side > 0.0 else 1.0
+        ee = e0 * e0 + e1 * e1 + e2 * e2
+        ww = w0 * w0 + w1 * w1 + w2 * w2
+        scale = eps * np.sqrt(ee / ww) * sgn
+        p[i, 0] = m0 + w0 * scale
+        p[i, 1] = m1 + w1 * scale
+        p[i, 2] = m2 + w2 * scale
+    return p
+
+
 def outward_points_and_rays(mesh: Mesh, light: Light):
-    """Vectorised ``extend`` and ``ray`` for every edge, in the counted routines' order of operations.
+    """``extend`` and ``ray`` for every edge, compiled, in the counted routines' order of operations.
 
     Returns ``P`` (E, 3), ray origins (E, 3), directions (E, 3), and scalar ``t_min``, ``t_max``.
     """
-    V = mesh.vertices
-    v1, v2 = V[mesh.edges[:, 0]], V[mesh.edges[:, 1]]
-    c = V[_mesh_data(mesh)["apex"]]
     L = _light_vals(light)
     directional = isinstance(light, DirectionalLight)
-    m = (v1 + v2) * 0.5
-    e = v2 - v1
-    d = np.broadcast_to(L, m.shape) if directional else m - L
-    w = np.stack(
-        [
-            d[:, 1] * e[:, 2] - d[:, 2] * e[:, 1],
-            d[:, 2] * e[:, 0] - d[:, 0] * e[:, 2],
-            d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0],
-        ],
-        axis=1,
-    )
-    g = c - m
-    side = g[:, 0] * w[:, 0] + g[:, 1] * w[:, 1] + g[:, 2] * w[:, 2]
-    sgn = np.where(side > 0.0, -1.0, 1.0)
-    ee = e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1] + e[:, 2] * e[:, 2]
-    ww = w[:, 0] * w[:, 0] + w[:, 1] * w[:, 1] + w[:, 2] * w[:, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        scale = EPS * np.sqrt(ee / ww) * sgn
-        p = m + w * scale[:, None]
+    p = _outward(mesh.vertices, mesh.edges, _mesh_data(mesh)["apex"], L, directional, EPS)
     if directional:
         return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
     return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
+
+
+def _own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Every (edge, fan triangle of one of its faces) pair, edges ascending (cached with the mesh)."""
+    data = _mesh_data(mesh)
+    if "own_pairs" not in data:
+        E = mesh.n_edges
+        start, order = mesh.edge_sides
+        side_face = mesh.side_face[order]
+        side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
+        n_tri = np.diff(data["tri_start"])[side_face]
+        pair_edge = np.repeat(side_edge, n_tri)
+        pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
+            np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+        )
+        data["own_pairs"] = (pair_edge, pair_tri)
+    return data["own_pairs"]
 
 
 # ---------------------------------------------------------------- engines
@@ -273,14 +299,7 @@ def _fast_intended(mesh: Mesh, light: Light):
     p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
     # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
     #    in the full face loop, so those edges are settled without casting.
-    start, order = mesh.edge_sides
-    side_face = mesh.side_face[order]
-    side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
-    n_tri = np.diff(data["tri_start"])[side_face]
-    pair_edge = np.repeat(side_edge, n_tri)
-    pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
-        np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
-    )
+    pair_edge, pair_tri = _own_pairs(mesh)
     tracer = _tracer(mesh)
     local = tracer.hits_triangle(origins[pair_edge], directions[pair_edge], pair_tri, t_min, t_max)
     blocked = np.zeros(E, dtype=bool)
