@@ -249,7 +249,7 @@ def test_report_skips_without_a_corpus(monkeypatch, tmp_path, capsys):
     from silcount.cli import corpus as cli
 
     monkeypatch.setattr(cli, "corpus_dir", lambda: None)
-    assert cli.report(tmp_path) == []
+    assert cli.report(tmp_path) == [tmp_path / "corpus" / "scale.md"]  # from the committed measurements only
     assert "skipped" in capsys.readouterr().out
 
 

@@ -24,7 +24,9 @@ import json, sys
 import silcount
 from silcount.counting import models
 from silcount.cli.main import run
-print(json.dumps({"file": silcount.__file__, "models": str(models.models_dir())}))
+from silcount.study import scale
+units = len(scale.load_profile().units)  # the sweep-time model's measurements ship too
+print(json.dumps({"file": silcount.__file__, "models": str(models.models_dir()), "units": units}))
 sys.argv = ["silcount", "audit", sys.argv[1], "--detectors", "reference", "--random-lights", "1",
             "--format", "json", "--out", sys.argv[2], "--quiet"]
 run()
@@ -53,6 +55,7 @@ def test_a_wheel_installed_outside_the_tree_audits_a_mesh(tmp_path):
     where = json.loads(done.stdout.splitlines()[0])
     assert Path(where["file"]).is_relative_to(site)
     assert Path(where["models"]).is_relative_to(site) and (Path(where["models"]) / "eesd2012-ta.toml").is_file()
+    assert where["units"] > 0
     detectors = json.loads(out.read_text())["detectors"]
     assert set(detectors) == {"reference"}
     assert all(sum(d["tallies"]["paper"].values()) > 0 for d in detectors.values())

@@ -128,14 +128,19 @@ def report(out_dir: Path) -> list[Path]:
     ``corpus.parquet``.  ``literature.md`` (linked from ``summary.md``) sets the
     papers' detectors beside the literature's; without wall times its time
     rows are ``-``, and with directional lights only it has no point-light rows
-    (``silcount corpus --light-kind both --out DIR`` gives both, timed).
+    (``silcount corpus --light-kind both --out DIR`` gives both, timed).  ``scale.md``, the sweep-time
+    model's check and its 10,000-mesh estimate, comes from the committed measurements
+    (:mod:`silcount.study.scale`) and is written with or without a corpus.
     """
-    from silcount.study import corpus
+    from silcount.atomic import write_text
+    from silcount.study import corpus, scale
     from silcount.study.output import write_out
 
+    (out_dir / "corpus").mkdir(parents=True, exist_ok=True)
+    paths = [write_text(out_dir / "corpus" / "scale.md", scale.page(scale.load_profile()))]
     source = corpus_dir()
     if source is None:
         print(f"corpus: skipped: ${CORPUS_ENV} does not name a folder")
-        return []
+        return paths
     result = corpus([source], subdivide=REPORT_LEVELS, timing=False, quiet=True)
-    return write_out(result, out_dir / "corpus", with_rows=False)
+    return paths + write_out(result, out_dir / "corpus", with_rows=False)
