@@ -40,7 +40,7 @@ KEYS = {
 
 @pytest.fixture(scope="module")
 def all_claims():
-    return claims.all_claims()
+    return claims.all_claims(claims.default_evidence())  # with the render experiments, as the report
 
 
 @pytest.fixture(scope="module")
@@ -425,3 +425,16 @@ def test_vnv_intended_reading_in_the_prose(by_key):
     for key, literal in (("eesd-vnv-intended", "eesd-vnv-literal"), ("hsd-vnv-intended", "hsd-vnv-literal")):
         assert by_key[key].verdict == "HOLDS" and "0 extra, 0 missed" in by_key[key].measured, key
         assert by_key[literal].verdict == FAILS, literal
+
+
+def test_claims_without_evidence_run_no_render_experiment_and_keep_every_verdict(all_claims, monkeypatch):
+    from silcount.render import experiments
+
+    def refuse():
+        raise AssertionError("the render experiments ran without being asked for")
+
+    monkeypatch.setattr(experiments, "stencil_step_evidence", refuse)
+    quick = claims.all_claims()
+    assert [(c.key, c.verdict) for c in quick] == [(c.key, c.verdict) for c in all_claims]
+    with pytest.raises(AssertionError, match="without being asked"):
+        claims.default_evidence()  # asking for them runs them

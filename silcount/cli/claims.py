@@ -16,6 +16,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="an extra cycle profile (built-in name or TOML file with [weights]) for the ordering claims",
     )
+    parser.add_argument(
+        "--no-render",
+        action="store_true",
+        help="skip the render experiments (the stencil claims then say 'not measured'; verdicts unchanged)",
+    )
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -27,8 +32,8 @@ def report(out_dir: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     from silcount.counting.cycles import load_profile
-    from silcount.papers.claims import format_claims
+    from silcount.papers.claims import default_evidence, format_claims
 
     profile = load_profile(args.cycles) if args.cycles else None
-    print(format_claims(args.format, profile), end="")
+    print(format_claims(args.format, profile, default_evidence(render=not args.no_render)), end="")
     return 0

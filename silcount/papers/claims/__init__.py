@@ -25,28 +25,37 @@ if TYPE_CHECKING:
     from silcount.papers.claims.context import Evidence
 
 
-def default_evidence(real: bool = False) -> "Evidence":
+def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
     """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), TA's witness family
-    (:func:`silcount.papers.witness.witness_evidence`) and the render experiments' pixel mismatches of the
-    literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
+    (:func:`silcount.papers.witness.witness_evidence`) and, with ``render``, the render experiments' pixel
+    mismatches of the literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
     from silcount.papers import growth, witness
     from silcount.papers.claims.context import Evidence
-    from silcount.render.experiments import stencil_step_evidence
 
+    stencil = None
+    if render:
+        from silcount.render.experiments import stencil_step_evidence
+
+        stencil = stencil_step_evidence()
     return Evidence(
         exponents=growth.icosphere_evidence(),
-        stencil=stencil_step_evidence(),
+        stencil=stencil,
         real=real,
         worst=witness.witness_evidence(),
     )
 
 
 def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
-    """Every claim, numbered, in a fixed order: derivations, table cells, then each paper's claims file."""
+    """Every claim, numbered, in a fixed order: derivations, table cells, then each paper's claims file.
+
+    ``evidence=None`` is ``default_evidence(render=False)``: the render experiments run only when asked
+    for (``all_claims(default_evidence())``, as ``silcount claims`` and ``silcount report`` do); without
+    them the stencil claims keep their verdicts, judged by their readings, and say "not measured".
+    """
     from silcount.counting import models
     from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, fps, inventory
 
-    ev = default_evidence() if evidence is None else evidence
+    ev = default_evidence(render=False) if evidence is None else evidence
     with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
         **inventory.RULES,
         **algorithms.RULES,
@@ -93,20 +102,21 @@ def findings_markdown(evidence: "Evidence | None" = None) -> str:
     return findings(all_claims(evidence))
 
 
-def format_claims(fmt: str, extra_profile: "Profile | None" = None) -> str:
-    """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings)."""
+def format_claims(fmt: str, extra_profile: "Profile | None" = None, evidence: "Evidence | None" = None) -> str:
+    """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings;
+    ``evidence``: as :func:`all_claims`)."""
     from silcount.papers.claims.rendering import RENDER
 
-    return RENDER[fmt](all_claims(), extra_profile)
+    return RENDER[fmt](all_claims(evidence), extra_profile)
 
 
 def report(out_dir):
-    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}``."""
+    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}``, with the render experiments' evidence."""
     from pathlib import Path
 
     from silcount.papers.claims.rendering import write_all
 
-    return write_all(all_claims(), Path(out_dir) / "claims")
+    return write_all(all_claims(default_evidence()), Path(out_dir) / "claims")
 
 
 __all__ = [
@@ -118,6 +128,7 @@ __all__ = [
     "Reading",
     "all_claims",
     "claims_frame",
+    "default_evidence",
     "findings_markdown",
     "format_claims",
     "report",
