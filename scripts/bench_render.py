@@ -6,7 +6,7 @@
    ``reference`` detector), volume build and rasterisation (the depth pass
    of the scene plus the stencil pass of the volumes), for three rasterisers
    measured in the same run: the baseline (the single-threaded rasteriser of
-   commit 318ab63, :mod:`silcount.render.baseline`), the current one on one
+   commit 318ab63, ``scripts/render_baseline.py``), the current one on one
    part, and on ``numba.get_num_threads()`` parts (the default).
 1b. The rasterisation alone (depth pass, stencil pass) on cow_and_cubes, wall
    and CPU time, the three rasterisers interleaved run by run.
@@ -54,6 +54,7 @@ from pathlib import Path
 import numba
 import numpy as np
 from bench_render_process import BASELINE_COMMIT, whole_process
+from render_baseline import rasterize_serial
 
 import silcount
 from silcount.cli.render import shared_scene_dir
@@ -61,7 +62,6 @@ from silcount.detectors import DETECTORS
 from silcount.detectors.plain import plain_edge_ids
 from silcount.mesh import shapes
 from silcount.render import stencil
-from silcount.render.baseline import rasterize_serial
 from silcount.render.camera import Camera
 from silcount.render.masks import compare_masks
 from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
