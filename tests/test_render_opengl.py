@@ -11,7 +11,8 @@ gives the same wrong mask in GL.  Skips, saying why, without moderngl and PyOpen
 
 from __future__ import annotations
 
-import sys
+import functools
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,17 @@ from silcount.render.methods import render_method
 from silcount.render.scene import load_scene
 from silcount.render.stencil import render_stencil
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+
+@functools.cache
+def gl_stencil():
+    """``scripts/gl_stencil.py``, loaded by path (scripts are not a package; it imports moderngl)."""
+    path = Path(__file__).resolve().parents[1] / "scripts" / "gl_stencil.py"
+    spec = importlib.util.spec_from_file_location("gl_stencil", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 
 SCENES = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and_cubes", "eye_in_shadow")
 
@@ -32,7 +43,7 @@ SCENES = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and
 def gl_context():
     pytest.importorskip("moderngl", reason="moderngl not installed (pip install -e '.[gl]')")
     pytest.importorskip("OpenGL", reason="PyOpenGL not installed (pip install -e '.[gl]')")
-    from gl_stencil import GLStencil
+    GLStencil = gl_stencil().GLStencil
 
     try:
         return GLStencil(512, 512)
@@ -82,7 +93,7 @@ def test_zpass_with_the_eye_in_shadow_is_wrong_in_opengl_too(gl_context):
 def test_a_numpy_silhouette_and_volume_on_opengl_give_the_same_mask(gl_context, tmp_path):
     # gl_stencil.volume_clip finds the silhouette and builds the volume with its own numpy code from the
     # faces alone (the benchmark's whole llvmpipe process): a second implementation of both steps.
-    from gl_stencil import bake, volume_clip
+    bake, volume_clip = gl_stencil().bake, gl_stencil().volume_clip
 
     sc = scene("cow_and_cubes")
     bake(sc, str(tmp_path / "scene.npz"))
