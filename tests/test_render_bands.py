@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib.util
 import io
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +34,7 @@ def _baseline():
     spec = importlib.util.spec_from_file_location("render_baseline", REPO / "scripts" / "render_baseline.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # numba's cache rebuilds a kernel's globals from its module's name
     spec.loader.exec_module(module)
     return module
 

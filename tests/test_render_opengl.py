@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +33,7 @@ def gl_stencil():
     spec = importlib.util.spec_from_file_location("gl_stencil", path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # numba's cache rebuilds a kernel's globals from its module's name
     spec.loader.exec_module(module)
     return module
 
