@@ -13,13 +13,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import cache
-from typing import Any
 
 import numpy as np
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
-from silcount.detectors.result import Silhouette
+from silcount.detectors.result import EngineRun, Silhouette
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh, from_polygons
 
@@ -135,28 +134,24 @@ def make_silhouette(
     detector: str,
     variant: str,
     engine: str,
-    edge_ids,
-    steps: dict[str, int],
-    true_tally: dict[str, int],
-    ties: int,
-    is_facing: np.ndarray | Callable[[], np.ndarray],
+    run: EngineRun,
     paper_params: dict[str, float] | None = None,
-    notes: dict[str, Any] | None = None,
     orient: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> Silhouette:
-    """Assemble a :class:`Silhouette`: sorted unique edges, both cost models; ``edges`` and ``oriented`` lazily.
+    """Assemble a :class:`Silhouette` from an engine's :class:`.result.EngineRun`: sorted unique edges, both
+    cost models; ``edges`` and ``oriented`` lazily.
 
-    ``is_facing`` (or a function returning it) gives :func:`oriented_edges`
-    unless ``orient`` (called with the ascending ids) is given.  No reference
-    detection is run here: :attr:`.result.Silhouette.agreement` does that when asked.
+    ``run.is_facing`` (or the function it holds) gives :func:`oriented_edges` unless ``orient`` (called with
+    the ascending ids) is given.  No reference detection is run here: :attr:`.result.Silhouette.agreement`
+    does that when asked.
     """
-    ids = unique_ids(edge_ids)
-    notes = dict(notes or {})
+    ids = unique_ids(run.edge_ids)
     params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
     if paper_params:
         params.update(paper_params)
     true = {k: 0 for k in KINDS}
-    true.update({k: int(v) for k, v in true_tally.items()})
+    true.update({k: int(v) for k, v in run.true_tally.items()})
+    is_facing = run.is_facing
 
     def oriented() -> np.ndarray:
         if orient is not None:
@@ -168,12 +163,12 @@ def make_silhouette(
         variant=variant,
         engine=engine,
         edge_ids=ids,
-        steps={k: int(v) for k, v in steps.items()},
+        steps={k: int(v) for k, v in run.steps.items()},
         true_tally=true,
         paper_model=models.DEFAULT_PAPER_MODEL[detector],
         paper_params=params,
-        ties=ties,
-        notes=notes,
+        ties=int(run.ties),
+        notes=dict(run.notes),
         mesh=mesh,
         light=light,
         orient=oriented,
@@ -188,6 +183,7 @@ __all__ = [
     "add_scaled",
     "oriented_edges",
     "make_silhouette",
+    "EngineRun",
     "unique_ids",
     "VARIANTS",
     "ENGINES",

@@ -115,7 +115,7 @@ from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import MeshMemory, add_scaled, make_silhouette, unique_ids
+from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, unique_ids
 from silcount.detectors.eesd_counted import (
     ADD_COST,
     CHECK_COST,
@@ -376,11 +376,10 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     else:
         ids, steps, true, notes = _fast_intended(mesh, light)
     flags, ties = facing_flags(mesh, light)
-    unique = unique_ids(ids)
     if variant == "literal":
         notes["S_length"] = steps["add"]
-        notes["duplicates_in_S"] = steps["add"] - int(unique.size)
-    return make_silhouette(mesh, light, NAME, variant, engine, unique, steps, true, ties, flags, notes=notes)
+        notes["duplicates_in_S"] = steps["add"] - int(unique_ids(ids).size)
+    return make_silhouette(mesh, light, NAME, variant, engine, EngineRun(ids, steps, true, ties, flags, notes=notes))
 
 
 __all__ = ["detect", "EPS", "outward_points_and_rays", "face_planes", "routine_cost", "counted_triangle_hit"]

@@ -18,7 +18,7 @@ from numba import njit, prange
 
 from silcount.counting.arithmetic import OpCounter
 from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import add_scaled, make_silhouette
+from silcount.detectors.base import EngineRun, add_scaled, make_silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, Hierarchy, KeyScheme, build_fast, overflows
 from silcount.detectors.hierarchy_naive import build_naive, query_naive
 from silcount.detectors.reference import fast_tally as reference_tally
@@ -258,8 +258,8 @@ def detect(mesh: Mesh, light: Light, name: str, scheme: KeyScheme, variant: str,
         "leaf_size": leaf_size,
         "fanout": fanout,
     }
-    return make_silhouette(mesh, light, name, variant, engine, ids, steps, true, ties,
-                           lambda: facing_flags(mesh, light)[0], notes=notes)  # fmt: skip
+    run = EngineRun(ids, steps, true, ties, lambda: facing_flags(mesh, light)[0], notes=notes)
+    return make_silhouette(mesh, light, name, variant, engine, run)
 
 
 def reference_true_total(mesh: Mesh, light: Light, k: int) -> int:

@@ -43,7 +43,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
-from silcount.detectors.base import MeshMemory, add_scaled, counted_visibility, visibility_true_cost
+from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
 from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
 from silcount.detectors.result import Silhouette
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
@@ -79,7 +79,7 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
         for q in range(first, last):  # for each boundary side
             toggle(S, side_from[q], side_to[q], V, steps)  # TA's side step
     ids, pairs = edges_in(S, mesh)
-    return ids, pairs, steps, dict(counter), ties, poly_facing
+    return EngineRun(ids, steps, dict(counter), ties, poly_facing, pairs)
 
 
 def _fast(mesh: Mesh, light: Light, mg: Merge):
@@ -96,32 +96,18 @@ def _fast(mesh: Mesh, light: Light, mg: Merge):
         r.searched, r.examined, r.deleted, r.added, r.shifted, int(np.count_nonzero(poly_facing))
     ).items():
         true[kind] = true.get(kind, 0) + c
-    return ids, pairs, steps, true, ties, poly_facing
+    return EngineRun(ids, steps, true, ties, poly_facing, pairs)
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """HSD's silhouette: TA over the merged polygons; the merge's cost is in ``notes['merge']``."""
     mg = merge(mesh, CRITERION[variant])
-    run = _naive if engine == "naive" else _fast
-    ids, pairs, steps, true, ties, poly_facing = run(mesh, light, mg)
+    run = (_naive if engine == "naive" else _fast)(mesh, light, mg)
     inside = int(np.count_nonzero(mg.interior[silhouette_edge_ids(mesh, light)]))
-    notes = {
+    run.notes.update({
         "merge": mg.summary(),
         "representative": "lowest-index face of each polygon",
         "reference_edges_inside_polygons": inside,
-    }
-    return finish(
-        mesh,
-        light,
-        NAME,
-        variant,
-        engine,
-        ids,
-        pairs,
-        steps,
-        true,
-        ties,
-        poly_facing[mg.region],
-        paper_params=mg.paper_params(),
-        notes=notes,
-    )
+    })  # fmt: skip
+    run.is_facing = run.is_facing[mg.region]  # the polygons' flags, per face
+    return finish(mesh, light, NAME, variant, engine, run, paper_params=mg.paper_params())

@@ -28,6 +28,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import edge_ids_of, facing_flags, facing_of_bits, many_edge_ids
 from silcount.detectors.base import (
+    EngineRun,
     MeshMemory,
     Silhouette,
     add_scaled,
@@ -41,7 +42,7 @@ from silcount.mesh.model import Mesh
 NAME = "reference"
 
 
-def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, np.ndarray]:
+def _naive(mesh: Mesh, light: Light) -> EngineRun:
     counter = OpCounter()
     mem = MeshMemory(mesh, light, counter)
     F = mesh.n_faces
@@ -65,7 +66,7 @@ def _naive(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, OpCounter, int, 
             S[len(out)] = e
             out.append(e)
     steps = {"visibility": F, "edge_test": mesh.n_edges, "add": len(out)}
-    return np.asarray(out, dtype=np.int64), steps, counter, ties, np.asarray(flags.data).astype(bool)
+    return EngineRun(np.asarray(out, dtype=np.int64), steps, dict(counter), ties, np.asarray(flags.data).astype(bool))
 
 
 def fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
@@ -80,21 +81,17 @@ def fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
     return {"visibility": F, "edge_test": E, "add": k}, true
 
 
-def _fast(mesh: Mesh, light: Light) -> tuple[np.ndarray, dict, dict, int, np.ndarray]:
+def _fast(mesh: Mesh, light: Light) -> EngineRun:
     is_facing, ties = facing_flags(mesh, light)
     ids = edge_ids_of(mesh, is_facing)
     steps, true = fast_tally(mesh, light, int(ids.size))
-    return ids, steps, true, ties, is_facing
+    return EngineRun(ids, steps, true, ties, is_facing)
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """Silhouette by edge adjacency.  ``variant`` is accepted for a uniform API; there is one."""
-    if engine == "naive":
-        ids, steps, counter, ties, flags = _naive(mesh, light)
-        true = dict(counter)
-    else:
-        ids, steps, true, ties, flags = _fast(mesh, light)
-    return make_silhouette(mesh, light, NAME, variant, engine, ids, steps, true, ties, flags)
+    run = _naive(mesh, light) if engine == "naive" else _fast(mesh, light)
+    return make_silhouette(mesh, light, NAME, variant, engine, run)
 
 
 def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
@@ -103,5 +100,5 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
     for light, (ids, ties, bits, j) in zip(lights, many_edge_ids(mesh, lights), strict=True):
         steps, true = fast_tally(mesh, light, int(ids.size))
         flags = partial(facing_of_bits, bits, j)  # computed only if ``oriented`` is asked for
-        out.append(make_silhouette(mesh, light, NAME, variant, "fast", ids, steps, true, ties, flags))
+        out.append(make_silhouette(mesh, light, NAME, variant, "fast", EngineRun(ids, steps, true, ties, flags)))
     return out

@@ -26,6 +26,26 @@ from silcount.mesh.model import Mesh
 
 
 @dataclass
+class EngineRun:
+    """What one engine of a detector found and counted for one light, before it becomes a :class:`Silhouette`.
+
+    ``edge_ids``: the edges found, as the algorithm leaves them (any order; TA's, HSD's and literal EESD's S
+    may hold an edge more than once); ``steps``: step -> runs; ``true_tally``: kind -> count, as executed
+    (``naive``) or charged (``fast``); ``ties``: facing values exactly 0; ``is_facing``: the light-facing
+    flags of the faces, or a function computing them, to orient the edges; ``pairs``: the (from, to) vertex
+    pairs in S's order, for detectors whose S keeps a direction (TA, HSD); ``notes``: the detector's own.
+    """
+
+    edge_ids: np.ndarray
+    steps: dict[str, int]
+    true_tally: dict[str, int]
+    ties: int
+    is_facing: np.ndarray | Callable[[], np.ndarray]
+    pairs: np.ndarray | None = None
+    notes: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
 class Silhouette:
     """The result of one detector run for one light.
 
@@ -118,4 +138,4 @@ def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> 
     return total
 
 
-__all__ = ["Silhouette", "compare_with_reference", "differences", "paper_tally"]
+__all__ = ["EngineRun", "Silhouette", "compare_with_reference", "differences", "paper_tally"]

@@ -59,6 +59,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
 from silcount.detectors.base import (
+    EngineRun,
     MeshMemory,
     Silhouette,
     add_scaled,
@@ -120,7 +121,7 @@ def _naive(mesh: Mesh, light: Light, variant: str):
         for q in range(first, last):  # For q = 1 to Number Of Side
             toggle(S, mem.corners[q], side_to[q], V, steps)
     ids, pairs = edges_in(S, mesh)
-    return ids, pairs, steps, dict(counter), ties, flags
+    return EngineRun(ids, steps, dict(counter), ties, flags, pairs)
 
 
 def toggle(S: CountedEdgeArray, vp, vq, V: int, steps: dict[str, int]) -> None:
@@ -162,48 +163,24 @@ def _fast(mesh: Mesh, light: Light, variant: str):
         r.searched, r.examined, r.deleted, r.added, r.shifted, int(np.count_nonzero(is_facing))
     ).items():
         true[kind] = true.get(kind, 0) + c
-    return ids, pairs, steps, true, ties, is_facing
+    return EngineRun(ids, steps, true, ties, is_facing, pairs)
 
 
 def finish(
-    mesh: Mesh,
-    light: Light,
-    detector: str,
-    variant: str,
-    engine: str,
-    ids: np.ndarray,
-    pairs: np.ndarray,
-    steps: dict,
-    true: dict,
-    ties: int,
-    flags: np.ndarray,
-    paper_params: dict | None = None,
-    notes: dict | None = None,
+    mesh: Mesh, light: Light, detector: str, variant: str, engine: str, run: EngineRun, paper_params: dict | None = None
 ) -> Silhouette:
-    """The :class:`Silhouette` of what S holds: unique edges, front-most copy's direction, duplicates noted."""
-    unique = unique_ids(ids)
-    notes = dict(notes or {})
-    notes["S_length"] = int(ids.size)
-    notes["duplicates_in_S"] = int(ids.size - unique.size)
+    """The :class:`Silhouette` of what S holds (``run.pairs``): unique edges, front-most copy's direction,
+    duplicates noted."""
+    ids, pairs = run.edge_ids, run.pairs
+    assert pairs is not None
+    run.notes["S_length"] = int(ids.size)
+    run.notes["duplicates_in_S"] = int(ids.size - unique_ids(ids).size)
     return make_silhouette(
-        mesh,
-        light,
-        detector,
-        variant,
-        engine,
-        unique,
-        steps,
-        true,
-        ties,
-        flags,
-        paper_params=paper_params,
-        notes=notes,
-        orient=lambda u: first_orientation(ids, pairs, u),
+        mesh, light, detector, variant, engine, run, paper_params, orient=lambda u: first_orientation(ids, pairs, u)
     )
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """TA's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
-    run = _naive if engine == "naive" else _fast
-    ids, pairs, steps, true, ties, flags = run(mesh, light, variant)
-    return finish(mesh, light, NAME, variant, engine, ids, pairs, steps, true, ties, flags)
+    run = (_naive if engine == "naive" else _fast)(mesh, light, variant)
+    return finish(mesh, light, NAME, variant, engine, run)

@@ -64,6 +64,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
 from silcount.detectors.base import (
+    EngineRun,
     MeshMemory,
     Silhouette,
     add_scaled,
@@ -118,7 +119,7 @@ def _naive(mesh: Mesh, light: Light, variant: str):
             S[len(out)] = e  # Add E to S
             out.append(e)
             steps["add"] += 1
-    return np.asarray(out, dtype=np.int64), steps, dict(counter), ties, flags
+    return EngineRun(np.asarray(out, dtype=np.int64), steps, dict(counter), ties, flags)
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):
@@ -150,15 +151,13 @@ def _fast(mesh: Mesh, light: Light, variant: str):
         steps["contains"] = E * n_vis
         add_scaled(true, CONTAINS_COST, E * n_vis)
         add_scaled(true, SIDE_EXAMINED_COST, examined)
-    return ids, steps, true, ties, is_facing
+    return EngineRun(ids, steps, true, ties, is_facing)
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """VnV's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
-    run = _naive if engine == "naive" else _fast
-    ids, steps, true, ties, flags = run(mesh, light, variant)
-    notes = {}
+    run = (_naive if engine == "naive" else _fast)(mesh, light, variant)
     if variant == "literal":
-        n_vis = int(np.count_nonzero(flags))
-        notes["reset_reading_edges"] = mesh.n_edges if n_vis == 1 else 0
-    return make_silhouette(mesh, light, NAME, variant, engine, ids, steps, true, ties, flags, notes=notes)
+        n_vis = int(np.count_nonzero(run.is_facing))
+        run.notes["reset_reading_edges"] = mesh.n_edges if n_vis == 1 else 0
+    return make_silhouette(mesh, light, NAME, variant, engine, run)
