@@ -233,14 +233,14 @@ def test_every_ambiguous_verdict_says_which_reading_the_tables_use(all_claims):
 
 def test_the_intersection_reading_is_the_one_the_tables_charge(by_key):
     # EESD's Mult is e_n (3 + f_n * (Mult per test)); Tables 1-2 print 1980 and 181800
-    from silcount.papers import kernels
+    from silcount.papers import primitives
 
     entry = next(c for c in models.load("eesd2012-claims")["claims"] if c["id"] == "eesd-intersection")
     cells_mul = {(10, 5): 1980, (100, 10): 181800}
     fits = {}
     for name in entry["kernels"]:
-        per_test = kernels.kernel_cost(name).get("mul", 0)
-        fits[kernels.KERNELS[name][1]] = all(6 * n * (3 + n * per_test) == v for (n, _), v in cells_mul.items())
+        per_test = primitives.kernel_cost(name).get("mul", 0)
+        fits[primitives.KERNELS[name][1]] = all(6 * n * (3 + n * per_test) == v for (n, _), v in cells_mul.items())
     assert fits == {"aR_x+bR_y+cR_z+d = 0 for a point R": True, "does the ray x0 + t d, t > 0, cross the plane": False}
     c = by_key["eesd-intersection"]
     assert c.verdict == claims.AMBIGUOUS and "plane-equation" in c.table_reading and "1980" in c.table_reading

@@ -24,7 +24,7 @@ import silcount
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
-from silcount.papers import kernels
+from silcount.papers import primitives
 
 MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
 
@@ -178,7 +178,7 @@ def test_ta_branch_fractions_match_simulation(name):
     ],
 )
 def test_kernel_costs_by_hand(kernel, expected):
-    assert kernels.kernel_cost(kernel) == expected
+    assert primitives.kernel_cost(kernel) == expected
 
 
 def test_corrected_visibility_cost_is_what_the_detectors_execute():

@@ -1,7 +1,7 @@
 """Do the counts predict time?  Cycle profiles from llvm-mca and from this machine, checked against measured time.
 
 * :mod:`.mca`: llvm-mca latency and reciprocal throughput per operation kind (``scripts/make_cycle_profiles.py``);
-* :mod:`.kernels`, :mod:`.measure`: the micro-benchmarked profile (``silcount calibrate --measure``);
+* :mod:`.microbench`, :mod:`.measure`: the micro-benchmarked profile (``silcount calibrate --measure``);
 * :mod:`.timing`: plain-loop times and tallies per mesh, algorithm and light;
 * :mod:`.predict`: tally x profile, one scale per profile fitted in log space, R^2, ratios, rank agreement;
 * :mod:`.fps`: the papers' frame rates against their own cost model (EESD Sec. 6, HSD Sec. VIII);

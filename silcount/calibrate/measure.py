@@ -1,6 +1,6 @@
 """A cycle profile measured on this machine: nanoseconds per operation kind (``silcount calibrate --measure``).
 
-Each kind is timed by a numba kernel (:mod:`silcount.calibrate.kernels`),
+Each kind is timed by a numba kernel (:mod:`silcount.calibrate.microbench`),
 best of ``repeats`` runs of ``n`` loop steps, and divided by the operations
 per step:
 
@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.atomic import write_text
-from silcount.calibrate import kernels as K
+from silcount.calibrate import microbench as K
 
 L1_INDICES = 512
 DRAM_BYTES = 256 * 2**20

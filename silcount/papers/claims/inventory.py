@@ -2,7 +2,7 @@
 
 EESD paper Sec. 2, 5, 5.1-5.3, 6, 7; HSD paper Sec. V, VI, VIII (Table 1).
 Every rule computes its verdict: kernels are executed on counting
-arithmetic (:mod:`silcount.papers.kernels`), identities are decided by
+arithmetic (:mod:`silcount.papers.primitives`), identities are decided by
 sympy, complexity by the worst case (the annotations' tight worst case and measured witness families, beside the
 typical growth: :class:`~silcount.papers.claims.context.Evidence`).
 """
@@ -15,7 +15,7 @@ import sympy as sp
 
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import formulas as F
-from silcount.papers import kernels
+from silcount.papers import primitives
 from silcount.papers.claims.base import (
     FAILS,
     HOLDS,
@@ -45,12 +45,12 @@ def _judged(c, source, family, readings, rederived="", measured=None, reason="",
 
 
 def kernel_cost(c: dict, source: str, ev: Evidence) -> Claim:
-    printed = {k: int(v) for k, v in c["cost"].items() if k in kernels.ARITHMETIC}
+    printed = {k: int(v) for k, v in c["cost"].items() if k in primitives.ARITHMETIC}
     readings = []
     for name in c["kernels"]:
-        got = kernels.kernel_cost(name)
+        got = primitives.kernel_cost(name)
         shown = " + ".join(f"{v}{F.KIND_SYMBOLS[k]}" for k, v in sorted(got.items())) or "no arithmetic"
-        readings.append(Reading(kernels.KERNELS[name][1], got == printed, f"executed: {shown}"))
+        readings.append(Reading(primitives.KERNELS[name][1], got == printed, f"executed: {shown}"))
     return _judged(
         c,
         source,
@@ -58,7 +58,7 @@ def kernel_cost(c: dict, source: str, ev: Evidence) -> Claim:
         readings,
         reason="each reading of the operation executed on counting arithmetic (add, mul, cmp; reads and writes "
         "depend on a memory layout the paper does not give). Computations tried: "
-        + "; ".join(kernels.KERNELS[name][1] for name in c["kernels"])
+        + "; ".join(primitives.KERNELS[name][1] for name in c["kernels"])
         + ".",
     )
 
