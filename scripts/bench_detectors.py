@@ -184,7 +184,7 @@ def section_many(mesh: silcount.Mesh) -> None:
 
 
 def audit_figures(mesh: silcount.Mesh, dump: str | None) -> dict:
-    from silcount.audit.run import AuditSettings, run_audit
+    from silcount.audit.compute import AuditSettings, run_audit
 
     d = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     L = silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d)

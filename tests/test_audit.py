@@ -1,4 +1,4 @@
-"""`silcount.audit.run`: mesh statistics, lights, agreement, aggregation, printed formulas, the JSON schema.
+"""`silcount.audit.compute`: mesh statistics, lights, agreement, aggregation, printed formulas, the JSON schema.
 
 Expected values are hand counts on tiny meshes (reasoning beside each) or the
 papers' printed formulas typed from the text; none is computed by the code under test.
@@ -17,8 +17,8 @@ from test_engines import expected_edges, facing, reference_edges
 
 import silcount
 from silcount import DirectionalLight, PointLight, from_polygons
-from silcount.audit.formats import format_audit
-from silcount.audit.run import AuditSettings, random_lights, run_audit, winding_number
+from silcount.audit.compute import AuditSettings, random_lights, run_audit, winding_number
+from silcount.audit.layout import format_audit
 from silcount.cli import report as report_cmd
 from silcount.counting.arithmetic import KINDS
 from silcount.detectors import DETECTORS, LITERATURE

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
 
-from silcount.audit.formats import write_atomic
+from silcount.audit.layout import write_atomic
 from silcount.cli.main import main
 
 QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]

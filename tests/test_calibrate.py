@@ -10,8 +10,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from silcount.calibrate import formats, fps, measure, predict, timing
-from silcount.calibrate.run import calibrate, from_committed, ranking_evidence
+from silcount.calibrate import fps, measure, output, predict, timing
+from silcount.calibrate.calibration import calibrate, from_committed, ranking_evidence
 from silcount.cli.main import main
 from silcount.counting.cycles import TRUE_KINDS, Profile, measured_file_profiles
 from silcount.errors import UnreadableInput
@@ -99,7 +99,7 @@ def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
     times = timing.timings(meshes, n_lights=1, repeats=1)
     assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 2 * len(timing.TIMED)
     cal = calibrate(meshes, times, "test", "test", n_lights=1)
-    paths = formats.write(cal, tmp_path, with_timings=True, figures=False)
+    paths = output.write(cal, tmp_path, with_timings=True, figures=False)
     names = {p.name for p in paths}
     assert {"calibrate.md", "calibrate.csv", "calibrate.json", "calibrate_large.csv", "timings.csv"} <= names
     doc = json.loads((tmp_path / "calibrate.json").read_text())
@@ -138,7 +138,7 @@ def test_committed_like_timings_with_the_literature_keep_the_fours_numbers():
     with_lit, without = calibrate(meshes, times, "t", "t", n_lights=1), calibrate(meshes, four, "t", "t", n_lights=1)
     for table in ("samples", "predictions", "per_mesh", "summary", "summary_large"):
         pd.testing.assert_frame_equal(getattr(with_lit, table), getattr(without, table))
-    assert len(without.literature_samples) == 0 and json.loads(formats.to_json(without))["literature"]["summary"] == []
+    assert len(without.literature_samples) == 0 and json.loads(output.to_json(without))["literature"]["summary"] == []
 
 
 def test_cli_reuses_a_timings_file(tmp_path):
@@ -165,11 +165,11 @@ def committed():
 
 def test_committed_report_validates_and_is_deterministic(committed, tmp_path):
     again = from_committed()
-    assert formats.to_json(again) == formats.to_json(committed)
-    assert formats.to_markdown(again) == formats.to_markdown(committed)
-    a = formats.figure(committed, "true", tmp_path / "a.png").read_bytes()
-    assert formats.figure(again, "true", tmp_path / "b.png").read_bytes() == a
-    doc = json.loads(formats.to_json(committed))
+    assert output.to_json(again) == output.to_json(committed)
+    assert output.to_markdown(again) == output.to_markdown(committed)
+    a = output.figure(committed, "true", tmp_path / "a.png").read_bytes()
+    assert output.figure(again, "true", tmp_path / "b.png").read_bytes() == a
+    doc = json.loads(output.to_json(committed))
     jsonschema.validate(doc, SCHEMA)
     assert doc["samples"] == len(timing.SERIES) * len(timing.ALGORITHMS) * timing.LIGHTS
     assert {r["profile"] for r in doc["summary"]} >= {"paper", "unit", "skylake-latency", "znver3-throughput"}
@@ -192,7 +192,7 @@ def test_a_timed_mesh_that_loads_today_with_another_face_count_is_left_out_and_n
     """Old times paired with today's tallies of another mesh would be a wrong sample (suzanne.ply: 968 -> 500)."""
     import pandas as pd
 
-    from silcount.calibrate.run import _as_timed
+    from silcount.calibrate.calibration import _as_timed
     from silcount.mesh.shapes import builtin_mesh
 
     same, other = builtin_mesh("icosphere1"), builtin_mesh("icosphere2")

@@ -2,7 +2,7 @@
 
 | module      | what it holds                                           |
 |-------------|---------------------------------------------------------|
-| run.py      | :func:`run_audit`: the audit document (schema silcount-audit/1) |
+| compute.py  | :func:`run_audit`: the audit document (schema silcount-audit/1) |
 | costs.py    | cycle-weighted totals and the printed formula at the mesh's n, m |
-| formats.py  | the document as text, Markdown or JSON                  |
+| layout.py   | the document as text, Markdown or JSON                  |
 """

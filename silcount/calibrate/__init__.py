@@ -5,7 +5,7 @@
 * :mod:`.timing`: plain-loop times and tallies per mesh, algorithm and light;
 * :mod:`.predict`: tally x profile, one scale per profile fitted in log space, R^2, ratios, rank agreement;
 * :mod:`.fps`: the papers' frame rates against their own cost model (EESD Sec. 6, HSD Sec. VIII);
-* :mod:`.run`, :mod:`.formats`: the whole calibration and its md / csv / json / png outputs.
+* :mod:`.calibration`, :mod:`.output`: the whole calibration and its md / csv / json / png outputs.
 
 ``silcount.calibrate.ranking_evidence()`` (for the claims) and ``fps_table()`` are loaded on first use (PEP 562),
 so importing :mod:`.mca` does not load numba or pandas.
@@ -18,7 +18,7 @@ from typing import Any
 
 def __getattr__(name: str) -> Any:
     if name == "ranking_evidence":
-        from silcount.calibrate.run import ranking_evidence
+        from silcount.calibrate.calibration import ranking_evidence
 
         return ranking_evidence
     if name == "fps_table":

@@ -36,7 +36,7 @@ from silcount.mesh.shapes import builtin_mesh
 from silcount.progress import progress
 
 ALGORITHMS = ("ta", "vnv", "hsd", "eesd")
-TIMED = ALGORITHMS + LITERATURE  # what a live run times; the fit is the ALGORITHMS' alone (silcount.calibrate.run)
+TIMED = ALGORITHMS + LITERATURE  # a live run times these; the fit is the ALGORITHMS' alone (calibrate.calibration)
 SERIES = tuple(f"icosphere{k}" for k in range(5))
 LIGHTS = 4
 MODELS = ("paper", "true")

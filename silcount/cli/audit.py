@@ -1,7 +1,7 @@
 """`silcount audit [MESH]`: every detector on one mesh (or on every built-in mesh), per light and aggregated.
 
-The computation is :func:`silcount.audit.run.run_audit`; the layout is
-:mod:`silcount.audit.formats`.  Output goes to stdout, or with ``--out`` to a file
+The computation is :func:`silcount.audit.compute.run_audit`; the layout is
+:mod:`silcount.audit.layout`.  Output goes to stdout, or with ``--out`` to a file
 written atomically (a temporary file renamed into place, so a failure never
 leaves half a report).  With no MESH, every built-in mesh is audited; ``--out``
 is then a directory receiving ``<mesh>.<format>``.
@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
 from silcount.audit.costs import cycle_profile
-from silcount.audit.formats import FORMATS, format_audit, render_json, write_atomic
-from silcount.audit.run import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
+from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
 from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, check_choice
 from silcount.mesh import shapes

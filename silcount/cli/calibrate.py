@@ -52,21 +52,21 @@ def report(out_dir: Path) -> list[Path]:
     (``out_dir/calibrate/corpus/``) when ``$SILCOUNT_CORPUS_DIR`` is set and the timings time corpus files."""
     import os
 
-    from silcount.calibrate import formats, timing
-    from silcount.calibrate.run import committed_timings, from_committed, read_timings
+    from silcount.calibrate import output, timing
+    from silcount.calibrate.calibration import committed_timings, from_committed, read_timings
 
-    paths = formats.write(from_committed(), out_dir / "calibrate")
+    paths = output.write(from_committed(), out_dir / "calibrate")
     corpus = os.environ.get("SILCOUNT_CORPUS_DIR")
     timed = committed_timings()
     if corpus and timed is not None and set(read_timings(timed)["mesh"]) - set(timing.SERIES):
-        paths += formats.write(from_committed(Path(corpus)), out_dir / "calibrate" / "corpus")
+        paths += output.write(from_committed(Path(corpus)), out_dir / "calibrate" / "corpus")
     return paths
 
 
 def run(args: argparse.Namespace) -> int:
-    from silcount.calibrate import formats, timing
+    from silcount.calibrate import output, timing
+    from silcount.calibrate.calibration import calibrate, read_timings
     from silcount.calibrate.measure import cpu_model_name, measure
-    from silcount.calibrate.run import calibrate, read_timings
     from silcount.counting.cycles import builtin_profiles, cycles_dir, load_profile
     from silcount.errors import BadArgument, UnreadableInput
 
@@ -101,6 +101,6 @@ def run(args: argparse.Namespace) -> int:
         times = timing.timings(meshes, n_lights, args.repeats, show)
         cpu, source, live = cpu_model_name(), "measured in this run", True
     cal = calibrate(meshes, times, cpu, source, profiles, n_lights, show)
-    for path in formats.write(cal, args.out or Path("calibrate"), with_timings=live):
+    for path in output.write(cal, args.out or Path("calibrate"), with_timings=live):
         print(path)
     return 0

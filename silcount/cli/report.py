@@ -25,8 +25,8 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from silcount.audit.formats import format_audit, write_atomic
-from silcount.audit.run import AuditSettings, random_lights, run_audit
+from silcount.audit.compute import AuditSettings, random_lights, run_audit
+from silcount.audit.layout import format_audit, write_atomic
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS

@@ -1,4 +1,4 @@
-"""Writing a :class:`~silcount.calibrate.run.Calibration`: Markdown, CSV, JSON and the figures.
+"""Writing a :class:`~silcount.calibrate.calibration.Calibration`: Markdown, CSV, JSON and the figures.
 
 Every float is rounded to 4 significant digits, so the same inputs give the
 same bytes; the JSON follows ``docs/schemas/calibrate.schema.json``.  Files, under ``out_dir``:
@@ -17,7 +17,7 @@ from pathlib import Path
 import pandas as pd
 
 from silcount.atomic import atomic_path, write_text
-from silcount.calibrate.run import LARGE_FACES, Calibration
+from silcount.calibrate.calibration import LARGE_FACES, Calibration
 from silcount.calibrate.timing import LITERATURE, MODELS, TIMED
 
 SCHEMA = "silcount-calibrate/1"

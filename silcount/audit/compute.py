@@ -1,7 +1,7 @@
 """The audit of one mesh: every detector, every light, both cost models.  No formatting here.
 
 :func:`run_audit` returns a JSON-ready ``dict`` (schema ``silcount-audit/1``,
-documented in ``docs/audit.md``); :mod:`silcount.audit.formats` renders it.
+documented in ``docs/audit.md``); :mod:`silcount.audit.layout` renders it.
 
 Decisions, named:
 

@@ -3,7 +3,7 @@
 Numbers are formatted by :func:`fmt`: integers in full, other floats with
 six significant digits; JSON keeps full ``repr`` precision (input
 coordinates must survive exactly) and sorted-as-built keys.  Nothing here
-computes: it only lays out the dictionary built by :mod:`silcount.audit.run`.
+computes: it only lays out the dictionary built by :mod:`silcount.audit.compute`.
 Each table is a :class:`pandas.DataFrame` of formatted cells, laid out by
 ``DataFrame.to_markdown`` (tabulate): ``pipe`` for Markdown, ``simple`` for
 the terminal.  The JSON document's schema is ``docs/schemas/audit.schema.json``.
