@@ -75,3 +75,15 @@ def test_differences_are_the_set_differences(found, reference):
     got = differences(np.array(sorted(found), dtype=np.int64), np.array(sorted(reference), dtype=np.int64))
     missed, extra = len(reference - found), len(found - reference)
     assert got == {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
+
+
+def test_every_detector_module_declares_itself_and_its_paper_model_annotates_it():
+    from silcount.counting import models
+    from silcount.detectors import DETECTORS, LABELS, MODULES, PAPER_MODEL, REGISTRY
+
+    assert DETECTORS == ("reference", "ta", "vnv", "hsd", "eesd", "gaussmap", "cones")
+    for m in MODULES:
+        assert REGISTRY[m.NAME] is m.detect and LABELS[m.NAME] == m.LABEL
+        assert models.load(PAPER_MODEL[m.NAME])["algorithm"] == m.NAME  # the file annotates this detector
+        res = m.detect(silcount.builtin_mesh("tetrahedron"), DirectionalLight((0.2, 0.3, 1.0)))
+        assert res.paper_model == m.PAPER_MODEL and res.detector == m.NAME

@@ -20,18 +20,8 @@ from silcount.counting.arithmetic import KINDS
 if TYPE_CHECKING:
     import sympy as sp
 
+
 # Which model file supplies each detector's ``paper`` cost model by default.
-DEFAULT_PAPER_MODEL = {
-    "reference": "silcount-reference",
-    "ta": "eesd2012-ta",
-    "vnv": "eesd2012-vnv",
-    "hsd": "hsd2011-hsd",
-    "eesd": "eesd2012-eesd",
-    "gaussmap": "silcount-gaussmap",
-    "cones": "silcount-cones",
-}
-
-
 def models_dir() -> Path:
     """The models directory: the package's data ``silcount/models/`` (``$SILCOUNT_MODELS_DIR`` overrides it).
 

@@ -39,27 +39,18 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 Detector = Callable[..., Silhouette]
-REGISTRY: dict[str, Detector] = {
-    "reference": reference.detect,
-    "ta": ta.detect,
-    "vnv": vnv.detect,
-    "hsd": hsd.detect,
-    "eesd": eesd.detect,
-    "gaussmap": gaussmap.detect,
-    "cones": cones.detect,
-}
-LITERATURE: tuple[str, ...] = ("gaussmap", "cones")  # the output-sensitive detectors beside the papers'
+MODULES = (reference, ta, vnv, hsd, eesd, gaussmap, cones)
+"""Each detector's module: ``detect`` and what it declares of itself (``NAME``, ``LABEL``, ``PAPER_MODEL``,
+``ONE_VARIANT``, ``LITERATURE``, ``VISITED_STEP``); the tables below are read from them, so that a new
+detector touches its own module, this tuple and its ``silcount/models/`` file."""
+REGISTRY: dict[str, Detector] = {m.NAME: m.detect for m in MODULES}
 DETECTORS: tuple[str, ...] = tuple(REGISTRY)
-ONE_VARIANT: tuple[str, ...] = ("reference", *LITERATURE)  # ``variant`` accepted and ignored: one run, ``intended``
-LABELS: dict[str, str] = {
-    "reference": "reference",
-    "ta": "TA",
-    "vnv": "VnV",
-    "hsd": "HSD",
-    "eesd": "EESD",
-    "gaussmap": "Gauss map",
-    "cones": "normal cones",
-}  # how tables and figures name each detector
+LITERATURE: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.LITERATURE)  # beside the papers'
+ONE_VARIANT: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.ONE_VARIANT)  # one run, ``intended``
+LABELS: dict[str, str] = {m.NAME: m.LABEL for m in MODULES}  # how tables and figures name each detector
+PAPER_MODEL: dict[str, str] = {m.NAME: m.PAPER_MODEL for m in MODULES}  # the ``paper`` cost model's file
+VISITED_STEP: dict[str, str] = {m.NAME: m.VISITED_STEP for m in MODULES}
+"""The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
 
 
 def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
@@ -103,8 +94,11 @@ __all__ = [
     "DETECTORS",
     "LABELS",
     "LITERATURE",
+    "MODULES",
     "ONE_VARIANT",
+    "PAPER_MODEL",
     "REGISTRY",
+    "VISITED_STEP",
     "detect",
     "detect_many",
     "variants_of",

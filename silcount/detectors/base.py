@@ -16,7 +16,6 @@ from functools import cache
 
 import numpy as np
 
-from silcount.counting import models
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
 from silcount.detectors.result import EngineRun, Silhouette
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -135,11 +134,12 @@ def make_silhouette(
     variant: str,
     engine: str,
     run: EngineRun,
+    paper_model: str,
     paper_params: dict[str, float] | None = None,
     orient: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> Silhouette:
     """Assemble a :class:`Silhouette` from an engine's :class:`.result.EngineRun`: sorted unique edges, both
-    cost models; ``edges`` and ``oriented`` lazily.
+    cost models (``paper_model``: the detector's ``silcount/models/`` file); ``edges`` and ``oriented`` lazily.
 
     ``run.is_facing`` (or the function it holds) gives :func:`oriented_edges` unless ``orient`` (called with
     the ascending ids) is given.  No reference detection is run here: :attr:`.result.Silhouette.agreement`
@@ -165,7 +165,7 @@ def make_silhouette(
         edge_ids=ids,
         steps={k: int(v) for k, v in run.steps.items()},
         true_tally=true,
-        paper_model=models.DEFAULT_PAPER_MODEL[detector],
+        paper_model=paper_model,
         paper_params=params,
         ties=int(run.ties),
         notes=dict(run.notes),

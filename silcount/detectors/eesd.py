@@ -137,6 +137,11 @@ from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer
 
 NAME = "eesd"
+LABEL = "EESD"  # how tables and figures name it
+PAPER_MODEL = "eesd2012-eesd"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "extend"  # the step counting the edges (sides) its per-light loop examines
 
 # ---------------------------------------------------------------- mesh data
 
@@ -379,7 +384,8 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     if variant == "literal":
         notes["S_length"] = steps["add"]
         notes["duplicates_in_S"] = steps["add"] - int(unique_ids(ids).size)
-    return make_silhouette(mesh, light, NAME, variant, engine, EngineRun(ids, steps, true, ties, flags, notes=notes))
+    run = EngineRun(ids, steps, true, ties, flags, notes=notes)
+    return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
 __all__ = ["detect", "EPS", "outward_points_and_rays", "face_planes", "routine_cost", "counted_triangle_hit"]

@@ -46,6 +46,11 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "gaussmap"
+LABEL = "Gauss map"  # how tables and figures name it
+PAPER_MODEL = "silcount-gaussmap"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = True  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = True  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "edge_test"  # the step counting the edges (sides) its per-light loop examines
 QUANT = float((1 << 20) - 1)  # (q + 1) * QUANT lies in [0, 2**21 - 2] for q in [-1, 1]
 
 
@@ -92,4 +97,4 @@ def detect(
     fanout: int = FANOUT,
 ) -> Silhouette:
     """The Gauss-map hierarchy's silhouette: exactly the reference edge set.  ``variant``: there is one."""
-    return detect_with(mesh, light, NAME, SCHEME, variant, engine, leaf_size, fanout)
+    return detect_with(mesh, light, NAME, PAPER_MODEL, SCHEME, variant, engine, leaf_size, fanout)

@@ -225,8 +225,8 @@ def query_cost(steps: dict[str, int], directional: bool) -> dict[str, int]:
 
 
 # ---- a detector over a hierarchy -----------------------------------------------------------------------
-def detect(mesh: Mesh, light: Light, name: str, scheme: KeyScheme, variant: str, engine: str, leaf_size: int,
-           fanout: int) -> Silhouette:  # fmt: skip
+def detect(mesh: Mesh, light: Light, name: str, paper_model: str, scheme: KeyScheme, variant: str, engine: str,
+           leaf_size: int, fanout: int) -> Silhouette:  # fmt: skip
     """Build (or reuse) the tree of ``scheme`` and answer one light; the build's tally is in ``notes['build']``.
 
     ``notes``: ``build`` (kind -> count, the tree's construction, apart from the query's ``true`` tally),
@@ -259,7 +259,7 @@ def detect(mesh: Mesh, light: Light, name: str, scheme: KeyScheme, variant: str,
         "fanout": fanout,
     }
     run = EngineRun(ids, steps, true, ties, lambda: facing_flags(mesh, light)[0], notes=notes)
-    return make_silhouette(mesh, light, name, variant, engine, run)
+    return make_silhouette(mesh, light, name, variant, engine, run, paper_model)
 
 
 def reference_true_total(mesh: Mesh, light: Light, k: int) -> int:

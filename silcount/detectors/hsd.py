@@ -52,6 +52,11 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "hsd"
+LABEL = "HSD"  # how tables and figures name it
+PAPER_MODEL = "hsd2011-hsd"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "search_S"  # the step counting the edges (sides) its per-light loop examines
 CRITERION = {"intended": "tight", "literal": "facets"}
 REPRESENTATIVE_COST = {"read": 1}  # rep[p]
 
@@ -110,4 +115,4 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
         "reference_edges_inside_polygons": inside,
     })  # fmt: skip
     run.is_facing = run.is_facing[mg.region]  # the polygons' flags, per face
-    return finish(mesh, light, NAME, variant, engine, run, paper_params=mg.paper_params())
+    return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL, paper_params=mg.paper_params())

@@ -40,6 +40,11 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "reference"
+LABEL = "reference"  # how tables and figures name it
+PAPER_MODEL = "silcount-reference"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = True  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "edge_test"  # the step counting the edges (sides) its per-light loop examines
 
 
 def _naive(mesh: Mesh, light: Light) -> EngineRun:
@@ -91,7 +96,7 @@ def _fast(mesh: Mesh, light: Light) -> EngineRun:
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """Silhouette by edge adjacency.  ``variant`` is accepted for a uniform API; there is one."""
     run = _naive(mesh, light) if engine == "naive" else _fast(mesh, light)
-    return make_silhouette(mesh, light, NAME, variant, engine, run)
+    return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
 def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
@@ -100,5 +105,6 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
     for light, (ids, ties, bits, j) in zip(lights, many_edge_ids(mesh, lights), strict=True):
         steps, true = fast_tally(mesh, light, int(ids.size))
         flags = partial(facing_of_bits, bits, j)  # computed only if ``oriented`` is asked for
-        out.append(make_silhouette(mesh, light, NAME, variant, "fast", EngineRun(ids, steps, true, ties, flags)))
+        run = EngineRun(ids, steps, true, ties, flags)
+        out.append(make_silhouette(mesh, light, NAME, variant, "fast", run, PAPER_MODEL))
     return out

@@ -73,6 +73,11 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "ta"
+LABEL = "TA"  # how tables and figures name it
+PAPER_MODEL = "eesd2012-ta"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "search_S"  # the step counting the edges (sides) its per-light loop examines
 
 # ``true`` cost of the work around the array, per event (see docs/counting.md).
 FACING_FACE_COST = {"read": 2}  # face_start[p], face_start[p+1]
@@ -167,7 +172,14 @@ def _fast(mesh: Mesh, light: Light, variant: str):
 
 
 def finish(
-    mesh: Mesh, light: Light, detector: str, variant: str, engine: str, run: EngineRun, paper_params: dict | None = None
+    mesh: Mesh,
+    light: Light,
+    detector: str,
+    variant: str,
+    engine: str,
+    run: EngineRun,
+    paper_model: str,
+    paper_params: dict | None = None,
 ) -> Silhouette:
     """The :class:`Silhouette` of what S holds (``run.pairs``): unique edges, front-most copy's direction,
     duplicates noted."""
@@ -176,11 +188,19 @@ def finish(
     run.notes["S_length"] = int(ids.size)
     run.notes["duplicates_in_S"] = int(ids.size - unique_ids(ids).size)
     return make_silhouette(
-        mesh, light, detector, variant, engine, run, paper_params, orient=lambda u: first_orientation(ids, pairs, u)
+        mesh,
+        light,
+        detector,
+        variant,
+        engine,
+        run,
+        paper_model,
+        paper_params,
+        lambda u: first_orientation(ids, pairs, u),
     )
 
 
 def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
     """TA's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
     run = (_naive if engine == "naive" else _fast)(mesh, light, variant)
-    return finish(mesh, light, NAME, variant, engine, run)
+    return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL)

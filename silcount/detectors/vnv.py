@@ -76,6 +76,11 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 NAME = "vnv"
+LABEL = "VnV"  # how tables and figures name it
+PAPER_MODEL = "eesd2012-vnv"  # the silcount/models/ file of its ``paper`` cost model
+ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
+LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
+VISITED_STEP = "check_counter"  # the step counting the edges (sides) its per-light loop examines
 
 COUNTER_COST = {"add": 1}  # counter + 1
 CHECK_COST = {"cmp": 1}  # counter == 1 (the counter is a local: no read)
@@ -160,4 +165,4 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     if variant == "literal":
         n_vis = int(np.count_nonzero(run.is_facing))
         run.notes["reset_reading_edges"] = mesh.n_edges if n_vis == 1 else 0
-    return make_silhouette(mesh, light, NAME, variant, engine, run)
+    return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)

@@ -39,7 +39,7 @@ Decisions, named:
   ``time_by_light_kind`` times the first
   ``time_lights`` lights of each kind apart; ``time_per_light_s`` is the first
   kind's (with ``both``, the directional lights').
-* **Edges visited** per light (:data:`VISITED_STEP`): the edges the per-light
+* **Edges visited** per light (:data:`silcount.detectors.VISITED_STEP`): the edges the per-light
   loop examines, from the detector's own step counts: every edge for
   ``reference``, VnV and EESD (their loops run over all of E); the sides of
   the light-facing faces (polygons, for HSD) that TA and HSD look up in S (an
@@ -66,7 +66,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import KINDS
 from silcount.counting.cycles import Profile, builtin_profiles
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, differences, variants_of
+from silcount.detectors import DETECTORS, VISITED_STEP, Silhouette, detect, detect_many, differences, variants_of
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -76,16 +76,6 @@ from silcount.mesh.stats import mesh_statistics
 LIGHT_DISTANCE = 3.0
 LIGHT_KINDS = ("directional", "point", "both")
 QUADRATIC = ("vnv", "eesd")  # plain loops over every (edge, face) pair
-VISITED_STEP = {
-    "reference": "edge_test",
-    "ta": "search_S",
-    "hsd": "search_S",
-    "vnv": "check_counter",
-    "eesd": "extend",
-    "gaussmap": "edge_test",
-    "cones": "edge_test",
-}
-"""The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
 FLAT_RELATIVE = 1e-9
 """A mesh is *flat* when its vertices' smallest principal extent is at most this times the largest."""
 
