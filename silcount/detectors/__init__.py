@@ -40,9 +40,12 @@ from silcount.mesh.model import Mesh
 
 Detector = Callable[..., Silhouette]
 MODULES = (reference, ta, vnv, hsd, eesd, gaussmap, cones)
-"""Each detector's module: ``detect`` and what it declares of itself (``NAME``, ``LABEL``, ``PAPER_MODEL``,
-``ONE_VARIANT``, ``LITERATURE``, ``VISITED_STEP``); the tables below are read from them, so that a new
-detector touches its own module, this tuple and its ``silcount/models/`` file."""
+"""Each detector's module: ``detect`` and what it declares of itself, from which the tables below are read
+(so that a new detector touches its own module, this tuple and its ``silcount/models/`` file):
+``NAME``; ``LABEL``, how tables and figures name it; ``PAPER_MODEL``, the ``silcount/models/`` file of its
+``paper`` cost model; ``ONE_VARIANT``, ``variant`` accepted and ignored (one run, ``intended``);
+``LITERATURE``, one of the literature's output-sensitive detectors beside the papers'; ``VISITED_STEP``, the
+step counting the edges (sides) its per-light loop examines."""
 REGISTRY: dict[str, Detector] = {m.NAME: m.detect for m in MODULES}
 DETECTORS: tuple[str, ...] = tuple(REGISTRY)
 LITERATURE: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.LITERATURE)  # beside the papers'

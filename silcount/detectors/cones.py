@@ -45,12 +45,12 @@ from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "cones"
-LABEL = "normal cones"  # how tables and figures name it
-PAPER_MODEL = "silcount-cones"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = True  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = True  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "edge_test"  # the step counting the edges (sides) its per-light loop examines
+NAME = "cones"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "normal cones"
+PAPER_MODEL = "silcount-cones"
+ONE_VARIANT = True
+LITERATURE = True
+VISITED_STEP = "edge_test"
 BITS = 12  # per coordinate of the 5-D key: 3 of position, 2 of normal direction
 QUANT = float((1 << BITS) - 1)  # a position's cell: [0, QUANT]
 QUANT_N = float((1 << (BITS - 1)) - 1)  # a direction's: (p + 1) * QUANT_N in [0, 2 QUANT_N] for p in [-1, 1]

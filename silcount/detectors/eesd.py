@@ -136,12 +136,12 @@ from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer
 
-NAME = "eesd"
-LABEL = "EESD"  # how tables and figures name it
-PAPER_MODEL = "eesd2012-eesd"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "extend"  # the step counting the edges (sides) its per-light loop examines
+NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "EESD"
+PAPER_MODEL = "eesd2012-eesd"
+ONE_VARIANT = False
+LITERATURE = False
+VISITED_STEP = "extend"
 
 # ---------------------------------------------------------------- mesh data
 

@@ -45,12 +45,12 @@ from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "gaussmap"
-LABEL = "Gauss map"  # how tables and figures name it
-PAPER_MODEL = "silcount-gaussmap"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = True  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = True  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "edge_test"  # the step counting the edges (sides) its per-light loop examines
+NAME = "gaussmap"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "Gauss map"
+PAPER_MODEL = "silcount-gaussmap"
+ONE_VARIANT = True
+LITERATURE = True
+VISITED_STEP = "edge_test"
 QUANT = float((1 << 20) - 1)  # (q + 1) * QUANT lies in [0, 2**21 - 2] for q in [-1, 1]
 
 

@@ -51,12 +51,12 @@ from silcount.mesh.coplanar import Merge, merge
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "hsd"
-LABEL = "HSD"  # how tables and figures name it
-PAPER_MODEL = "hsd2011-hsd"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "search_S"  # the step counting the edges (sides) its per-light loop examines
+NAME = "hsd"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "HSD"
+PAPER_MODEL = "hsd2011-hsd"
+ONE_VARIANT = False
+LITERATURE = False
+VISITED_STEP = "search_S"
 CRITERION = {"intended": "tight", "literal": "facets"}
 REPRESENTATIVE_COST = {"read": 1}  # rep[p]
 

@@ -39,12 +39,12 @@ from silcount.detectors.base import (
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "reference"
-LABEL = "reference"  # how tables and figures name it
-PAPER_MODEL = "silcount-reference"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = True  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "edge_test"  # the step counting the edges (sides) its per-light loop examines
+NAME = "reference"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "reference"
+PAPER_MODEL = "silcount-reference"
+ONE_VARIANT = True
+LITERATURE = False
+VISITED_STEP = "edge_test"
 
 
 def _naive(mesh: Mesh, light: Light) -> EngineRun:

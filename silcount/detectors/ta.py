@@ -72,12 +72,12 @@ from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, first
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "ta"
-LABEL = "TA"  # how tables and figures name it
-PAPER_MODEL = "eesd2012-ta"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "search_S"  # the step counting the edges (sides) its per-light loop examines
+NAME = "ta"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "TA"
+PAPER_MODEL = "eesd2012-ta"
+ONE_VARIANT = False
+LITERATURE = False
+VISITED_STEP = "search_S"
 
 # ``true`` cost of the work around the array, per event (see docs/counting.md).
 FACING_FACE_COST = {"read": 2}  # face_start[p], face_start[p+1]

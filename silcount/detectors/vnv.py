@@ -75,12 +75,12 @@ from silcount.detectors.base import (
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "vnv"
-LABEL = "VnV"  # how tables and figures name it
-PAPER_MODEL = "eesd2012-vnv"  # the silcount/models/ file of its ``paper`` cost model
-ONE_VARIANT = False  # ``variant`` accepted and ignored: one run, ``intended``
-LITERATURE = False  # one of the literature's output-sensitive detectors beside the papers'
-VISITED_STEP = "check_counter"  # the step counting the edges (sides) its per-light loop examines
+NAME = "vnv"  # what it declares of itself: see silcount.detectors.MODULES
+LABEL = "VnV"
+PAPER_MODEL = "eesd2012-vnv"
+ONE_VARIANT = False
+LITERATURE = False
+VISITED_STEP = "check_counter"
 
 COUNTER_COST = {"add": 1}  # counter + 1
 CHECK_COST = {"cmp": 1}  # counter == 1 (the counter is a local: no read)

@@ -86,8 +86,11 @@ def makespan(seconds: np.ndarray, size: np.ndarray, workers: int) -> float:
 
 def predict(profile: SweepProfile, seconds: np.ndarray, size: np.ndarray, workers: int) -> float:
     """The model's wall time of a sweep of these units on ``workers`` workers (one numba thread each)."""
-    n = len(seconds)
-    span = makespan(np.asarray(seconds) + profile.task_overhead_s, size, workers)
+    return _wall(profile, len(seconds), makespan(np.asarray(seconds) + profile.task_overhead_s, size, workers))
+
+
+def _wall(profile: SweepProfile, n: int, span: float) -> float:
+    """The model's formula (module docstring) for ``n`` units whose workers' makespan is ``span``."""
     return profile.startup_s + max(span, n * profile.client_per_unit_s) + n * profile.client_final_per_unit_s
 
 
@@ -116,7 +119,7 @@ def estimate(profile: SweepProfile, units: int = COLLECTION, workers=WORKERS, se
         client = units * profile.client_per_unit_s
         rows.append({
             "workers": int(w),
-            "wall_s": predict(profile, seconds, size, w),
+            "wall_s": _wall(profile, units, span),
             "work_s": float(seconds.sum()),
             "makespan_s": span,
             "client_s": client,
