@@ -1,8 +1,12 @@
 """zeros_per_point against every point-plane pair evaluated with numpy."""
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+from strategies import examples
 
-from silcount.detectors.onplane import zeros_per_point
+from silcount.detectors.onplane import _packet_bounds, _packet_misses, zeros_per_point
 
 
 def brute_force(points, planes):
@@ -96,3 +100,60 @@ def test_plane_counts_at_the_packet_edges_and_degenerate_inputs():
     assert zeros_per_point(pts, planes).tolist() == [1, 1, 0]
     assert zeros_per_point(pts, np.array([x_quarter])).tolist() == [1, 1, 0]
     assert zeros_per_point(np.full((4, 3), np.nan), planes).tolist() == [0, 0, 0, 0]
+
+
+def _near_copies(base: np.ndarray, rng: np.random.Generator, n: int = 64) -> np.ndarray:
+    """``n`` planes, each coefficient ``base``'s or a neighbouring float (a quarter exact copies)."""
+    step = rng.integers(-1, 2, size=(n, 4))
+    step[: n // 4] = 0
+    towards = np.where(step > 0, np.inf, -np.inf)
+    return np.where(step == 0, base, np.nextafter(base, towards))
+
+
+def test_a_packet_of_near_copies_keeps_every_zero():
+    # One packet of 64 planes within one ulp of x + 2y - z = 0.5 in each coefficient: the packet test (mid plane and
+    # spread) rules out nearly every box and point at once, and must keep each point that one of the
+    # planes holds exactly.  The points on the base plane are exact (dyadic); others sit 1e-12 away.
+    rng = np.random.default_rng(4)
+    xy = rng.integers(-64, 64, size=(3000, 2)) / 32.0
+    on = np.column_stack([xy, xy[:, 0] + 2 * xy[:, 1] - 0.5])
+    pts = np.concatenate([on, on + 1e-12 * rng.normal(size=on.shape), rng.normal(size=(2000, 3))])
+    planes = _near_copies(np.array([1.0, 2.0, -1.0, -0.5]), rng)
+    got = zeros_per_point(pts, planes)
+    expected = brute_force(pts, planes)
+    assert np.array_equal(got, expected)
+    assert expected[:3000].min() >= 16 and expected[:3000].max() < 64  # the exact copies, and not every plane
+
+
+@given(
+    base=hnp.arrays(np.float64, 4, elements=st.integers(-8, 8).map(lambda k: k / 4.0)),
+    seed=st.integers(0, 2**32 - 1),
+)
+@settings(max_examples=examples(40), deadline=None)
+def test_packets_of_near_copies_equal_every_pair(base, seed):
+    # Dyadic base planes (some degenerate: all-zero normals), 64-plane packets of copies within a
+    # ulp, and dyadic points on the base plane where it has a z term: the count of exact zeros
+    # equals every pair evaluated, for each packet position of the copies.
+    rng = np.random.default_rng(seed)
+    xy = rng.integers(-32, 32, size=(400, 2)) / 16.0
+    pts = rng.integers(-32, 32, size=(400, 3)) / 16.0
+    if base[2] != 0.0:
+        pts[:, :2] = xy
+        pts[:, 2] = -(base[0] * xy[:, 0] + base[1] * xy[:, 1] + base[3]) / base[2]
+    planes = np.concatenate([rng.normal(size=(rng.integers(0, 64), 4)), _near_copies(base, rng)])
+    assert np.array_equal(zeros_per_point(pts, planes), brute_force(pts, planes))
+
+
+def test_the_packet_test_counts_the_spread():
+    # Two planes 2^-20 apart in d; a point exactly on the second.  The packet test keeps it (its mid
+    # plane is 2^-21 away, within the spread); the same test without the spread would rule it out,
+    # which the brute-force comparisons above would catch as a missing zero.
+    planes = np.array([[1.0, 0.0, 0.0, -0.5], [1.0, 0.0, 0.0, -0.5 - 2.0**-20]])
+    finite, mid, spread, peak = _packet_bounds(planes, 0, 2)
+    assert finite and spread[3] == 2.0**-21
+    x = 0.5 + 2.0**-20
+    assert brute_force(np.array([[x, 0.0, 0.0]]), planes).tolist() == [1]
+    args = (x, 0.0, 0.0, 0.0, 0.0, 0.0, abs(x), 0.0, 0.0)
+    assert not _packet_misses(mid, spread, peak, *args)
+    assert _packet_misses(mid, np.zeros(4), peak, *args)
+    assert _packet_misses(mid, spread, peak, x + 1e-3, *args[1:])  # far from both: ruled out
