@@ -36,6 +36,7 @@ kind its profile does not weigh.  Built-in profiles (``silcount/models/cycles/``
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -62,12 +63,14 @@ class Profile:
         if missing:
             raise BadArgument(f"cycle profile {self.name} lacks a weight for {', '.join(missing)}")
 
-    def cycles(self, tally: dict[str, float]) -> float:
+    def cycles(self, tally: Mapping[str, float]) -> float:
         """Weighted total of a tally; a kind counted but not weighed fails, naming it."""
-        unweighed = sorted(k for k, v in tally.items() if v and k not in self.weights)
-        if unweighed:
-            raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
-        return sum(self.weights[k] * v for k, v in tally.items() if v)
+        w = self.weights
+        if not w.keys() >= tally.keys():
+            unweighed = sorted(k for k, v in tally.items() if v and k not in w)
+            if unweighed:
+                raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
+        return sum(w[k] * v for k, v in tally.items() if v)
 
 
 def cycles_dir() -> Path:

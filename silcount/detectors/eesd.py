@@ -221,7 +221,8 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
 
 
 def _own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """Every (edge, fan triangle of one of its faces) pair, edges ascending (cached with the mesh)."""
+    """Every (edge, fan triangle of one of its faces) pair, edges ascending, as a CSR: each edge's start in
+    the triangle list, and the list (cached with the mesh)."""
     data = _mesh_data(mesh)
     if "own_pairs" not in data:
         E = mesh.n_edges
@@ -233,7 +234,8 @@ def _own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
         pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
             np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
         )
-        data["own_pairs"] = (pair_edge, pair_tri)
+        pair_start = np.searchsorted(pair_edge, np.arange(E + 1, dtype=np.int64))
+        data["own_pairs"] = (pair_start, pair_tri)
     return data["own_pairs"]
 
 
@@ -304,11 +306,9 @@ def _fast_intended(mesh: Mesh, light: Light):
     p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
     # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
     #    in the full face loop, so those edges are settled without casting.
-    pair_edge, pair_tri = _own_pairs(mesh)
+    pair_start, pair_tri = _own_pairs(mesh)
     tracer = _tracer(mesh)
-    local = tracer.hits_triangle(origins[pair_edge], directions[pair_edge], pair_tri, t_min, t_max)
-    blocked = np.zeros(E, dtype=bool)
-    blocked[pair_edge[local]] = True
+    blocked = tracer.hits_any_listed(origins, directions, pair_start, pair_tri, t_min, t_max)
     # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.
     cand = np.flatnonzero(~blocked)
     blocked[cand] = tracer.any_hit(origins[cand], directions[cand], t_min, t_max)

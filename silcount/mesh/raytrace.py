@@ -220,6 +220,51 @@ def _hits_one_each(origins, directions, tris, which, t_min, t_max):
     return out
 
 
+@nb.njit(cache=True, parallel=True, error_model="numpy")
+def _hits_any_listed(origins, directions, start, which, tris, t_min, t_max):
+    """Ray ``r`` (row ``r`` of ``origins`` and ``directions``, or their one row) against its listed triangles."""
+    R = start.size - 1
+    out = np.zeros(R, dtype=np.bool_)
+    step_o = np.int64(origins.shape[0] > 1)  # 0: every ray shares row 0
+    step_d = np.int64(directions.shape[0] > 1)
+    for r in nb.prange(R):
+        o = origins[r * step_o]
+        d = directions[r * step_d]
+        for q in range(start[r], start[r + 1]):
+            tr = tris[which[q]]
+            hit = _moller_trumbore(
+                o[0],
+                o[1],
+                o[2],
+                d[0],
+                d[1],
+                d[2],
+                tr[0, 0],
+                tr[0, 1],
+                tr[0, 2],
+                tr[1, 0],
+                tr[1, 1],
+                tr[1, 2],
+                tr[2, 0],
+                tr[2, 1],
+                tr[2, 2],
+                t_min,
+                t_max,
+            )[0]
+            if hit:
+                out[r] = True
+                break
+    return out
+
+
+def _rows(a) -> np.ndarray:
+    """A (R, 3) array, or the one row of a broadcast one (all rows equal, stride 0) as (1, 3)."""
+    a = np.asarray(a, dtype=np.float64).reshape(-1, 3)
+    if a.shape[0] > 1 and a.strides[0] == 0:
+        return np.ascontiguousarray(a[:1])
+    return np.ascontiguousarray(a)
+
+
 def _per_ray(value, R: int, dtype) -> np.ndarray:
     arr = np.asarray(value, dtype=dtype)
     return np.ascontiguousarray(np.broadcast_to(arr, (R,)))
@@ -301,6 +346,23 @@ class RayTracer:
             _per_ray(t_min, R, np.float64),
             _per_ray(t_max, R, np.float64),
         )
+
+    def hits_any_listed(
+        self, origins, directions, start, which, t_min: float = 0.0, t_max: float = np.inf
+    ) -> np.ndarray:
+        """(R,) bool: does ray r meet any of triangles ``which[start[r]:start[r + 1]]`` (the same test, no grid)?
+
+        ``origins`` and ``directions`` are (R, 3), or one row broadcast to (R, 3); each ray stops at its
+        first hit, so the answer is that of testing every listed triangle.
+        """
+        start = np.ascontiguousarray(start, dtype=np.int64)
+        o, d = _rows(origins), _rows(directions)
+        R = start.size - 1
+        for name, a in (("origins", o), ("directions", d)):
+            if a.shape[0] not in (1, R):
+                raise ValueError(f"{R} rays but {a.shape[0]} {name}")
+        w = np.ascontiguousarray(which, dtype=np.int64)
+        return _hits_any_listed(o, d, start, w, self.triangles, float(t_min), float(t_max))
 
 
 __all__ = ["RayTracer"]

@@ -191,7 +191,7 @@ def run_record(res: Silhouette, ref: Silhouette, settings: Settings, profiles: d
         out.update({f"{model}_{k}": v for k, v in counts.items()})
         out[f"{model}_total"] = int(sum(counts.values()))
         for p in settings.profiles:
-            out[f"{model}_cycles_{p}"] = float(profiles[p].cycles(dict(tally)))
+            out[f"{model}_cycles_{p}"] = float(profiles[p].cycles(tally))
     return out
 
 
