@@ -23,7 +23,7 @@
    into 1,472 triangles, 2,208 edges (the papers' bunny has ~2,200 edges; the
    shared bunny is 24,363 edges and open, so a closed mesh of the papers'
    size stands in), on the floor at 512x512, z-fail.  Detection is timed
-   with :mod:`silcount.detectors.plain`: each algorithm's own loops (TA's
+   with :func:`silcount.detectors.plain_edge_ids`: each algorithm's own loops (TA's
    linear searches of S, VnV's and EESD's E x F loops), compiled and
    uncounted -- neither the counting ``naive`` engine nor the ``fast``
    engine's shortcut; "rest" is the volume build and rasterisation.
@@ -58,8 +58,7 @@ from render_baseline import rasterize_serial
 
 import silcount
 from silcount.cli.render import shared_scene_dir
-from silcount.detectors import DETECTORS
-from silcount.detectors.plain import plain_edge_ids
+from silcount.detectors import DETECTORS, plain_edge_ids
 from silcount.mesh import shapes
 from silcount.render import stencil
 from silcount.render.camera import Camera

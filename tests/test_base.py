@@ -87,3 +87,13 @@ def test_every_detector_module_declares_itself_and_its_paper_model_annotates_it(
         assert models.load(PAPER_MODEL[m.NAME])["algorithm"] == m.NAME  # the file annotates this detector
         res = m.detect(silcount.builtin_mesh("tetrahedron"), DirectionalLight((0.2, 0.3, 1.0)))
         assert res.paper_model == m.PAPER_MODEL and res.detector == m.NAME
+        assert callable(m.plain_edge_ids) and isinstance(m.PLAIN_QUADRATIC, bool)
+
+
+def test_the_tables_read_from_the_modules_name_the_papers_and_their_quadratic_loops():
+    # Independent of the modules' declarations: the papers' four (HSD paper Sec. 4, EESD paper Sec. 3),
+    # and the two whose printed loops run over every (edge, face) pair (VnV's, EESD's).
+    from silcount.detectors import LITERATURE, PAPERS, PLAIN_QUADRATIC
+
+    assert PAPERS == ("ta", "vnv", "hsd", "eesd") and LITERATURE == ("gaussmap", "cones")
+    assert PLAIN_QUADRATIC == ("vnv", "eesd")

@@ -188,7 +188,7 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
     # The fast engine settles most edges by their own faces and casts only the rest through the grid.
     # Check it against rays tested against every fan triangle (the naive loop's decisions, by the
     # same compiled test), on the cow, for the reference silhouette edges and 500 random others.
-    from silcount.detectors.eesd import _mesh_data, _tracer, outward_points_and_rays
+    from silcount.detectors.eesd_rays import outward_points_and_rays, ray_data, tracer
 
     mesh = shared_mesh("cow.obj")
     rng = np.random.default_rng(3)
@@ -200,12 +200,12 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
         ref = silcount.detect(mesh, light, "reference")
         edges = np.union1d(ref.edge_ids, rng.choice(mesh.n_edges, 500, replace=False))
         _, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
-        tracer, T = _tracer(mesh), _mesh_data(mesh)["tri_idx"].shape[0]
+        rays, T = tracer(mesh), ray_data(mesh)["tri_idx"].shape[0]
         escapes = np.zeros(edges.size, dtype=bool)
         for lo in range(0, edges.size, 200):
             e = np.repeat(edges[lo : lo + 200], T)
             tri = np.tile(np.arange(T), e.size // T)
-            hit = tracer.hits_triangle(origins[e], directions[e], tri, t_min, t_max)
+            hit = rays.hits_triangle(origins[e], directions[e], tri, t_min, t_max)
             escapes[lo : lo + 200] = ~hit.reshape(-1, T).any(axis=1)
         assert np.array_equal(np.intersect1d(res.edge_ids, edges), edges[escapes])
         assert 0 < res.n_edges < ref.n_edges
@@ -215,14 +215,14 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
 def _extend_by_routine(mesh, light):
     """P of every edge by the naive engine's counted routine, on plain numbers."""
     from silcount.counting.arithmetic import Num, OpCounter
-    from silcount.detectors.eesd import _mesh_data
     from silcount.detectors.eesd_counted import counted_outward_point
+    from silcount.detectors.eesd_rays import ray_data
 
     counter = OpCounter()
     directional = isinstance(light, silcount.DirectionalLight)
     L = [Num(float(x), counter) for x in (light.direction if directional else light.position)]
     num = lambda p: [Num(float(x), counter) for x in p]  # noqa: E731
-    V, apex = mesh.vertices, _mesh_data(mesh)["apex"]
+    V, apex = mesh.vertices, ray_data(mesh)["apex"]
     return np.array(
         [
             [x.value for x in counted_outward_point(num(V[a]), num(V[b]), num(V[apex[i]]), L, directional)]
@@ -238,8 +238,8 @@ def test_extend_step_geometry(light):
     # EESD paper Sec. 3.3: each edge is pushed "outward" by a small amount. P = m + w * scale, with m the
     # midpoint, w = d x e (d: from the light to m, or the light's direction), |P - m| = EPS |e|, on the side
     # of the edge away from its first face's far corner c.  Checked from the geometry, not the code.
-    from silcount.detectors.eesd import _mesh_data, outward_points_and_rays
     from silcount.detectors.eesd_counted import EPS
+    from silcount.detectors.eesd_rays import outward_points_and_rays, ray_data
 
     mesh = shapes.torus(n_major=12, n_minor=8)
     P = outward_points_and_rays(mesh, light)[0]
@@ -247,7 +247,7 @@ def test_extend_step_geometry(light):
     m, e = (v1 + v2) / 2, v2 - v1
     directional = isinstance(light, silcount.DirectionalLight)
     d = np.broadcast_to(light.direction, m.shape) if directional else m - light.position
-    off, c = P - m, mesh.vertices[_mesh_data(mesh)["apex"]] - m
+    off, c = P - m, mesh.vertices[ray_data(mesh)["apex"]] - m
     length = np.linalg.norm(e, axis=1)
     assert np.allclose(np.linalg.norm(off, axis=1), EPS * length, rtol=1e-6, atol=0)
     assert np.allclose(np.einsum("ij,ij->i", off, e), 0, atol=1e-12)

@@ -29,7 +29,7 @@ from silcount.mesh.model import Mesh
 
 LARGE_FACES = 320
 """The second fit keeps meshes with at least this many faces (icosphere2 up): below it the per-call
-numpy set-up of :func:`~silcount.detectors.plain.plain_edge_ids` (facing flags, edge-id lookup, about
+numpy set-up of :func:`~silcount.detectors.plain_edge_ids` (facing flags, edge-id lookup, about
 0.1-0.2 ms) outweighs the loops, a fixed cost no per-operation weight can model."""
 
 

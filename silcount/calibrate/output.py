@@ -19,6 +19,7 @@ import pandas as pd
 from silcount.atomic import atomic_path, write_text
 from silcount.calibrate.calibration import LARGE_FACES, Calibration
 from silcount.calibrate.timing import LITERATURE, MODELS, TIMED
+from silcount.detectors import STYLES
 
 SCHEMA = "silcount-calibrate/1"
 DIGITS = 4
@@ -71,7 +72,8 @@ def to_markdown(cal: Calibration) -> str:
         "# Do the counts predict time?",
         "",
         f"Timings: `{cal.timings_source}` ({cal.cpu_model}), {len(cal.samples)} samples "
-        "(mesh x algorithm x light), time of each algorithm's compiled uncounted loops (`detectors/plain.py`), "
+        "(mesh x algorithm x light), time of each algorithm's compiled uncounted loops "
+        "(each detector module's `plain_edge_ids`), "
         "best of the repeats. Predicted time = tally x profile x one scale per (model, profile), fitted in log space.",
         "",
         f"Best fit: model `{best['model']}`, profile `{best['profile']}`, R^2 = {_round(float(best['r2']))}.",
@@ -141,8 +143,7 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colours = {"ta": "#1b6ca8", "vnv": "#d1495b", "eesd": "#2e933c", "hsd": "#edae49"}
-    colours |= {"gaussmap": "#7b3294", "cones": "#00a6a6"}  # predicted with the four's scale (not fitted)
+    colours = {name: colour for name, (colour, _) in STYLES.items()}  # the literature (x): the four's scale, not fitted
     lit = cal.literature_predictions
     pred = pd.concat([cal.predictions, lit]) if len(lit) else cal.predictions
     pred = pred[pred["model"] == model]

@@ -1,6 +1,6 @@
 """Measured time and counted operations, per algorithm, mesh and light.
 
-Time is the wall time of :func:`silcount.detectors.plain.plain_edge_ids`, each
+Time is the wall time of :func:`silcount.detectors.plain_edge_ids`, each
 algorithm's own loops compiled and uncounted (the ``intended`` variant), best
 of ``repeats`` runs after one warm-up (numba compilation and HSD's per-mesh
 merge are paid before the clock starts, as a renderer pays them once).  The
@@ -11,7 +11,7 @@ The algorithms are the papers' four (TA, VnV, HSD, EESD); the ``reference``
 rule is not one of them (its plain form is numpy, not a loop).  Beside them,
 :data:`LITERATURE` (``gaussmap``, ``cones``): their time is their per-light
 query, the fast engine's compiled traversal on the tree cached with the mesh,
-on one numba thread (:data:`silcount.detectors.plain.QUERIED`; the warm-up
+on one numba thread (:func:`silcount.detectors.hierarchy_query.plain_query`; the warm-up
 call builds the tree, so the build is not timed, as HSD's merge is not), and
 their tally is the query's alone (the build's is ``notes['build']``).  Lights: ``LIGHTS``
 point lights uniformly on the sphere of 3 bounding radii about the mesh centre,
@@ -27,15 +27,14 @@ import numpy as np
 import pandas as pd
 
 from silcount.counting.cycles import TRUE_KINDS
-from silcount.detectors import LITERATURE, detect
-from silcount.detectors.plain import plain_edge_ids
+from silcount.detectors import LITERATURE, PAPERS, detect, plain_edge_ids
 from silcount.errors import BadArgument, UnreadableInput
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.shapes import builtin_mesh
 from silcount.progress import progress
 
-ALGORITHMS = ("ta", "vnv", "hsd", "eesd")
+ALGORITHMS = PAPERS
 TIMED = ALGORITHMS + LITERATURE  # a live run times these; the fit is the ALGORITHMS' alone (calibrate.calibration)
 SERIES = tuple(f"icosphere{k}" for k in range(5))
 LIGHTS = 4

@@ -21,8 +21,8 @@ Beside them: ``result.py`` (the result type, :class:`Silhouette`), ``base.py``
 ``edge_array.py`` (TA's and HSD's array S), ``onplane.py`` (EESD literal's
 point-on-plane search), ``hierarchy.py``, ``hierarchy_naive.py`` and
 ``hierarchy_query.py`` (the bounded edge tree gaussmap and cones share),
-``morton.py`` (their Z-order keys) and ``plain.py`` (each algorithm's loops compiled and
-uncounted, for timing).  :data:`REGISTRY` maps each name to its ``detect``,
+``morton.py`` (their Z-order keys), ``eesd_rays.py`` (EESD's outward points and
+rays) and ``eesd_counted.py`` (EESD's counted routines).  :data:`REGISTRY` maps each name to its ``detect``,
 :data:`LABELS` to the name tables and figures give it; :data:`ONE_VARIANT` are
 the detectors with one variant (:func:`variants_of`).
 """
@@ -30,6 +30,8 @@ the detectors with one variant (:func:`variants_of`).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+
+import numpy as np
 
 from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
 from silcount.detectors.base import ENGINES, VARIANTS
@@ -42,10 +44,19 @@ Detector = Callable[..., Silhouette]
 MODULES = (reference, ta, vnv, hsd, eesd, gaussmap, cones)
 """Each detector's module: ``detect`` and what it declares of itself, from which the tables below are read
 (so that a new detector touches its own module, this tuple and its ``silcount/models/`` file):
-``NAME``; ``LABEL``, how tables and figures name it; ``PAPER_MODEL``, the ``silcount/models/`` file of its
-``paper`` cost model; ``ONE_VARIANT``, ``variant`` accepted and ignored (one run, ``intended``);
-``LITERATURE``, one of the literature's output-sensitive detectors beside the papers'; ``VISITED_STEP``, the
-step counting the edges (sides) its per-light loop examines."""
+
+* ``NAME``; ``LABEL``, how tables and figures name it; ``PAPER_MODEL``, the ``silcount/models/`` file of its
+  ``paper`` cost model; ``ONE_VARIANT``, ``variant`` accepted and ignored (one run, ``intended``);
+* ``LITERATURE``, one of the literature's output-sensitive detectors beside the papers'; ``VISITED_STEP``,
+  the step counting the edges (sides) its per-light loop examines;
+* ``plain_edge_ids(mesh, light)``, its own loops (``intended``) compiled and uncounted, what a frame really
+  pays (timed by ``silcount calibrate`` and the corpus study), returning the ascending ids ``detect``
+  returns; ``PLAIN_QUADRATIC``, those loops visit every (edge, face) pair; where they use per-mesh
+  preprocessing (cached with the mesh), ``plain_setup(mesh)`` to run it outside the timings;
+* ``GROWTH_VARIANT``, the variant whose measured growth is set beside the paper's closed form (the one
+  whose loops are the printed pseudo-code's); ``STYLE``, its colour and marker in every figure (the
+  papers' circles, the yardsticks' other shapes).
+"""
 REGISTRY: dict[str, Detector] = {m.NAME: m.detect for m in MODULES}
 DETECTORS: tuple[str, ...] = tuple(REGISTRY)
 LITERATURE: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.LITERATURE)  # beside the papers'
@@ -54,6 +65,31 @@ LABELS: dict[str, str] = {m.NAME: m.LABEL for m in MODULES}  # how tables and fi
 PAPER_MODEL: dict[str, str] = {m.NAME: m.PAPER_MODEL for m in MODULES}  # the ``paper`` cost model's file
 VISITED_STEP: dict[str, str] = {m.NAME: m.VISITED_STEP for m in MODULES}
 """The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
+PAPERS: tuple[str, ...] = tuple(m.NAME for m in MODULES if not m.LITERATURE and m is not reference)
+"""The papers' detectors (TA, VnV, HSD, EESD): neither the yardstick nor the literature's."""
+PLAIN_QUADRATIC: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.PLAIN_QUADRATIC)
+GROWTH_VARIANT: dict[str, str] = {m.NAME: m.GROWTH_VARIANT for m in MODULES}
+STYLES: dict[str, tuple[str, str]] = {m.NAME: m.STYLE for m in MODULES}  # colour, marker in every figure
+_BY_NAME = {m.NAME: m for m in MODULES}
+
+
+def plain_edge_ids(mesh: Mesh, light: Light, name: str) -> np.ndarray:
+    """Detector ``name``'s own loops (``intended``), compiled and uncounted: the ascending ids ``detect`` returns.
+
+    The papers' four and the reference run their printed loops (HSD over the merged polygons, cached with
+    the mesh); ``gaussmap`` and ``cones`` their per-light query on the tree cached with the mesh, on one
+    numba thread like every loop here.  Tested against :func:`detect` in ``tests/test_plain.py``.
+    """
+    check_choice("plain kernel", name, DETECTORS, error=ValueError)
+    return _BY_NAME[name].plain_edge_ids(mesh, light)
+
+
+def plain_setup(mesh: Mesh, name: str) -> None:
+    """Run detector ``name``'s per-mesh preprocessing of its plain loops (none for most), cached with the mesh."""
+    check_choice("plain kernel", name, DETECTORS, error=ValueError)
+    setup = getattr(_BY_NAME[name], "plain_setup", None)
+    if setup is not None:
+        setup(mesh)
 
 
 def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
@@ -95,15 +131,21 @@ def detect_many(
 
 __all__ = [
     "DETECTORS",
+    "GROWTH_VARIANT",
     "LABELS",
     "LITERATURE",
     "MODULES",
     "ONE_VARIANT",
     "PAPER_MODEL",
+    "PAPERS",
+    "PLAIN_QUADRATIC",
     "REGISTRY",
+    "STYLES",
     "VISITED_STEP",
     "detect",
     "detect_many",
+    "plain_edge_ids",
+    "plain_setup",
     "variants_of",
     "Silhouette",
     "compare_with_reference",

@@ -34,6 +34,7 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter
+from silcount.mesh.model import Mesh
 
 
 class CountedEdgeArray:
@@ -175,6 +176,44 @@ def replay(
     return Replay(live, int(searched), int(examined), int(deleted), int(added), int(shifted))
 
 
+@njit(cache=True)
+def _plain_array_s(start, side_from, side_to, facing, V):  # pragma: no cover - compiled
+    """TA's array S over the sides of the light-facing faces (or polygons), uncounted; the live keys ``a V + b``."""
+    S = np.empty(side_from.size, dtype=np.int64)
+    n = 0
+    for p in range(start.size - 1):
+        if not facing[p]:
+            continue
+        for q in range(start[p], start[p + 1]):
+            a, b = side_from[q], side_to[q]
+            rev = b * V + a
+            pos = -1
+            for i in range(n):
+                if S[i] == rev:
+                    pos = i
+                    break
+            if pos >= 0:
+                for i in range(pos, n - 1):
+                    S[i] = S[i + 1]
+                n -= 1
+            else:
+                S[n] = a * V + b
+                n += 1
+    return S[:n]
+
+
+def plain_array_s(
+    mesh: Mesh, start: np.ndarray, side_from: np.ndarray, side_to: np.ndarray, facing: np.ndarray
+) -> np.ndarray:
+    """Run S as printed, compiled and uncounted: each side of a light-facing polygon searches S linearly from
+    the front and deletes its reverse (shifting the tail) or appends itself; ascending ids of the edges left."""
+    V = np.int64(mesh.n_vertices)
+    keys = _plain_array_s(start, side_from, side_to, facing, V)
+    a, b = keys // V, keys % V
+    table = mesh.edges[:, 0] * V + mesh.edges[:, 1]
+    return np.unique(np.searchsorted(table, np.minimum(a, b) * V + np.maximum(a, b)))
+
+
 def directed_keys(side_edge: np.ndarray, side_from: np.ndarray, side_to: np.ndarray) -> np.ndarray:
     """``2 * edge + (from > to)``: the directed key of each side; its reverse is ``key ^ 1``."""
     return 2 * np.asarray(side_edge, dtype=np.int64) + (np.asarray(side_from) > np.asarray(side_to))
@@ -197,4 +236,12 @@ def first_orientation(ids: np.ndarray, pairs: np.ndarray, unique_ids: np.ndarray
     return pairs[first]
 
 
-__all__ = ["CountedEdgeArray", "Replay", "replay", "directed_keys", "keys_to_directed", "first_orientation"]
+__all__ = [
+    "CountedEdgeArray",
+    "Replay",
+    "replay",
+    "plain_array_s",
+    "directed_keys",
+    "keys_to_directed",
+    "first_orientation",
+]

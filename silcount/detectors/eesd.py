@@ -108,10 +108,7 @@ on the 1M-face subdivided bunny (2 cores) against an estimated 40 min for all pa
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
-from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
@@ -130,11 +127,18 @@ from silcount.detectors.eesd_counted import (
     counted_triangle_hit,
     routine_cost,
 )
+from silcount.detectors.eesd_rays import (
+    face_planes,
+    outward_points_and_rays,
+    own_pairs,
+    plain_edge_ids,
+    ray_data,
+    tracer,
+)
 from silcount.detectors.onplane import zeros_per_point
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
-from silcount.mesh.raytrace import RayTracer
 
 NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
 LABEL = "EESD"
@@ -142,102 +146,9 @@ PAPER_MODEL = "eesd2012-eesd"
 ONE_VARIANT = False
 LITERATURE = False
 VISITED_STEP = "extend"
-
-# ---------------------------------------------------------------- mesh data
-
-_CACHE: "weakref.WeakKeyDictionary[Mesh, dict]" = weakref.WeakKeyDictionary()
-
-
-def _mesh_data(mesh: Mesh) -> dict:
-    """Per-mesh arrays (cached): each edge's far corner in f1, fan triangles, their faces, the tracer."""
-    got = _CACHE.get(mesh)
-    if got is None:
-        start, order = mesh.edge_sides
-        first_side = order[start[:-1]]
-        apex = mesh.side_to[mesh.side_next[first_side]]
-        fan = mesh.face_sizes - 2
-        tri_face = np.repeat(np.arange(mesh.n_faces, dtype=np.int64), fan)
-        tri_start = np.zeros(mesh.n_faces + 1, dtype=np.int64)
-        np.cumsum(fan, out=tri_start[1:])
-        k = np.arange(tri_face.size) - tri_start[tri_face] + 1
-        s0 = mesh.face_start[tri_face]
-        tri_idx = np.stack([mesh.corners[s0], mesh.corners[s0 + k], mesh.corners[s0 + k + 1]], axis=1)
-        got = {"apex": apex, "tri_face": tri_face, "tri_start": tri_start, "tri_idx": tri_idx}
-        _CACHE[mesh] = got
-    return got
-
-
-def _tracer(mesh: Mesh) -> RayTracer:
-    data = _mesh_data(mesh)
-    if "tracer" not in data:
-        data["tracer"] = RayTracer(mesh.vertices[data["tri_idx"]])
-    return data["tracer"]
-
-
-def _light_vals(light: Light) -> np.ndarray:
-    return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
-
-
-@njit(cache=True, error_model="numpy")  # an end-on edge (w = 0) divides by zero: inf or NaN, as numpy's
-def _outward(V, edges, apex, L, directional, eps):  # pragma: no cover - compiled
-    """``P`` of every edge: :func:`.eesd_counted.counted_outward_point`, operation for operation."""
-    E = edges.shape[0]
-    p = np.empty((E, 3))
-    for i in range(E):
-        a, b, c = edges[i, 0], edges[i, 1], apex[i]
-        m0 = (V[a, 0] + V[b, 0]) * 0.5
-        m1 = (V[a, 1] + V[b, 1]) * 0.5
-        m2 = (V[a, 2] + V[b, 2]) * 0.5
-        e0, e1, e2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
-        if directional:
-            d0, d1, d2 = L[0], L[1], L[2]
-        else:
-            d0, d1, d2 = m0 - L[0], m1 - L[1], m2 - L[2]
-        w0 = d1 * e2 - d2 * e1
-        w1 = d2 * e0 - d0 * e2
-        w2 = d0 * e1 - d1 * e0
-        side = (V[c, 0] - m0) * w0 + (V[c, 1] - m1) * w1 + (V[c, 2] - m2) * w2
-        sgn = -1.0 if side > 0.0 else 1.0
-        ee = e0 * e0 + e1 * e1 + e2 * e2
-        ww = w0 * w0 + w1 * w1 + w2 * w2
-        scale = eps * np.sqrt(ee / ww) * sgn
-        p[i, 0] = m0 + w0 * scale
-        p[i, 1] = m1 + w1 * scale
-        p[i, 2] = m2 + w2 * scale
-    return p
-
-
-def outward_points_and_rays(mesh: Mesh, light: Light):
-    """``extend`` and ``ray`` for every edge, compiled, in the counted routines' order of operations.
-
-    Returns ``P`` (E, 3), ray origins (E, 3), directions (E, 3), and scalar ``t_min``, ``t_max``.
-    """
-    L = _light_vals(light)
-    directional = isinstance(light, DirectionalLight)
-    p = _outward(mesh.vertices, mesh.edges, _mesh_data(mesh)["apex"], L, directional, EPS)
-    if directional:
-        return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
-    return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
-
-
-def _own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """Every (edge, fan triangle of one of its faces) pair, edges ascending, as a CSR: each edge's start in
-    the triangle list, and the list (cached with the mesh)."""
-    data = _mesh_data(mesh)
-    if "own_pairs" not in data:
-        E = mesh.n_edges
-        start, order = mesh.edge_sides
-        side_face = mesh.side_face[order]
-        side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
-        n_tri = np.diff(data["tri_start"])[side_face]
-        pair_edge = np.repeat(side_edge, n_tri)
-        pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
-            np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
-        )
-        pair_start = np.searchsorted(pair_edge, np.arange(E + 1, dtype=np.int64))
-        data["own_pairs"] = (pair_start, pair_tri)
-    return data["own_pairs"]
-
+PLAIN_QUADRATIC = True
+GROWTH_VARIANT = "literal"
+STYLE = ("#2e933c", "o")  # colour, marker in figures
 
 # ---------------------------------------------------------------- engines
 
@@ -247,7 +158,7 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     mem = MeshMemory(mesh, light, counter)
     directional = isinstance(light, DirectionalLight)
     table = Memory(mesh.edges.reshape(-1), counter)
-    apex = Memory(_mesh_data(mesh)["apex"], counter)
+    apex = Memory(ray_data(mesh)["apex"], counter)
     E, F = mesh.n_edges, mesh.n_faces
     S = Memory(np.zeros(max(E * F, 1), dtype=np.int64), counter)
     out: list[int] = []
@@ -302,16 +213,16 @@ def _naive(mesh: Mesh, light: Light, variant: str):
 
 def _fast_intended(mesh: Mesh, light: Light):
     E, F = mesh.n_edges, mesh.n_faces
-    data = _mesh_data(mesh)
+    data = ray_data(mesh)
     p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
     # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
     #    in the full face loop, so those edges are settled without casting.
-    pair_start, pair_tri = _own_pairs(mesh)
-    tracer = _tracer(mesh)
-    blocked = tracer.hits_any_listed(origins, directions, pair_start, pair_tri, t_min, t_max)
+    pair_start, pair_tri = own_pairs(mesh)
+    rays = tracer(mesh)
+    blocked = rays.hits_any_listed(origins, directions, pair_start, pair_tri, t_min, t_max)
     # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.
     cand = np.flatnonzero(~blocked)
-    blocked[cand] = tracer.any_hit(origins[cand], directions[cand], t_min, t_max)
+    blocked[cand] = rays.any_hit(origins[cand], directions[cand], t_min, t_max)
     ids = np.flatnonzero(~blocked)
     T = data["tri_face"].size
     steps = {
@@ -334,24 +245,6 @@ def _fast_intended(mesh: Mesh, light: Light):
     add_scaled(true, CHECK_COST, E)
     add_scaled(true, ADD_COST, ids.size)
     return ids, steps, true, {"rays_cast": int(cand.size)}
-
-
-def face_planes(mesh: Mesh) -> np.ndarray:
-    """(F, 4) ``a, b, c, d`` of every face, in :func:`counted_plane`'s order of operations."""
-    p0 = mesh.face_p0
-    s = mesh.face_start[:-1]
-    e1 = mesh.vertices[mesh.corners[s + 1]] - p0
-    e2 = mesh.vertices[mesh.corners[s + 2]] - p0
-    n = np.stack(
-        [
-            e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1],
-            e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
-            e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0],
-        ],
-        axis=1,
-    )
-    d = 0.0 - (n[:, 0] * p0[:, 0] + n[:, 1] * p0[:, 1] + n[:, 2] * p0[:, 2])
-    return np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
 
 
 def _fast_literal(mesh: Mesh, light: Light):
@@ -388,4 +281,12 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
-__all__ = ["detect", "EPS", "outward_points_and_rays", "face_planes", "routine_cost", "counted_triangle_hit"]
+__all__ = [
+    "detect",
+    "plain_edge_ids",
+    "EPS",
+    "outward_points_and_rays",
+    "face_planes",
+    "routine_cost",
+    "counted_triangle_hit",
+]

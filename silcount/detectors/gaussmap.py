@@ -40,6 +40,7 @@ from numba import njit
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_query import detect as detect_with
+from silcount.detectors.hierarchy_query import plain_query, tree_for
 from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
@@ -51,6 +52,9 @@ PAPER_MODEL = "silcount-gaussmap"
 ONE_VARIANT = True
 LITERATURE = True
 VISITED_STEP = "edge_test"
+PLAIN_QUADRATIC = False
+GROWTH_VARIANT = "intended"
+STYLE = ("#7b4ea3", "^")  # colour, marker in figures
 QUANT = float((1 << 20) - 1)  # (q + 1) * QUANT lies in [0, 2**21 - 2] for q in [-1, 1]
 
 
@@ -98,3 +102,14 @@ def detect(
 ) -> Silhouette:
     """The Gauss-map hierarchy's silhouette: exactly the reference edge set.  ``variant``: there is one."""
     return detect_with(mesh, light, NAME, PAPER_MODEL, SCHEME, variant, engine, leaf_size, fanout)
+
+
+def plain_setup(mesh: Mesh) -> None:
+    """Build the default tree once per mesh (cached with it, the one :func:`detect` uses), outside any timing."""
+    tree_for(mesh, SCHEME)
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
+    :func:`.hierarchy_query.plain_query`; ascending edge ids."""
+    return plain_query(mesh, SCHEME, light)

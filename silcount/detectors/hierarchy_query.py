@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import weakref
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -197,6 +198,23 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     return out[:k], steps, int(stats[9])
 
 
+def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
+    """What a renderer would run per light: :func:`query_fast` on the default tree of ``scheme`` (built on
+    first use and cached with the mesh) on one numba thread, as every plain loop runs; ascending edge ids.
+
+    The kernel also increments its step counters (one integer add per step; nothing else of the tally
+    is computed).
+    """
+    tree = tree_for(mesh, scheme)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # the query is a parallel kernel on large trees
+    try:
+        ids = query_fast(mesh, tree, light)[0]
+    finally:
+        numba.set_num_threads(threads)
+    return np.sort(ids)
+
+
 # ---- the query's counted costs ------------------------------------------------------------------------
 def query_cost(steps: dict[str, int], directional: bool) -> dict[str, int]:
     """The ``true`` tally of :func:`.hierarchy_naive.query_naive` with these steps (docs/counting.md)."""
@@ -280,4 +298,4 @@ def tree_for(mesh: Mesh, scheme: KeyScheme, leaf_size: int = LEAF_SIZE, fanout: 
     return per_mesh[key]
 
 
-__all__ = ["detect", "query_fast", "query_cost", "tree_for"]
+__all__ = ["detect", "query_fast", "query_cost", "tree_for", "plain_query"]

@@ -44,7 +44,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
-from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, replay
+from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, plain_array_s, replay
 from silcount.detectors.result import Silhouette
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
 from silcount.mesh.coplanar import Merge, merge
@@ -57,6 +57,9 @@ PAPER_MODEL = "hsd2011-hsd"
 ONE_VARIANT = False
 LITERATURE = False
 VISITED_STEP = "search_S"
+PLAIN_QUADRATIC = False
+GROWTH_VARIANT = "intended"
+STYLE = ("#edae49", "o")  # colour, marker in figures
 CRITERION = {"intended": "tight", "literal": "facets"}
 REPRESENTATIVE_COST = {"read": 1}  # rep[p]
 
@@ -116,3 +119,17 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     })  # fmt: skip
     run.is_facing = run.is_facing[mg.region]  # the polygons' flags, per face
     return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL, paper_params=mg.paper_params())
+
+
+def plain_setup(mesh: Mesh) -> None:
+    """The coplanar merge of the plain loops, once per mesh (cached with it), outside any timing."""
+    merge(mesh, CRITERION["intended"])
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """HSD's own loops (``intended``), compiled and uncounted: TA's S over the boundary sides of the merged
+    polygons (HSD paper Sec. V; the merge cached with the mesh, as in :func:`detect`); ascending edge ids."""
+    mg = merge(mesh, CRITERION["intended"])
+    sides = mg.poly_sides
+    facing = facing_flags(mesh, light, mg.rep)[0]
+    return plain_array_s(mesh, mg.poly_start, mesh.side_from[sides], mesh.side_to[sides], facing)

@@ -26,7 +26,7 @@ from functools import partial
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import edge_ids_of, facing_flags, facing_of_bits, many_edge_ids
+from silcount.detectors.adjacency import edge_ids_of, facing_flags, facing_of_bits, many_edge_ids, silhouette_edge_ids
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
@@ -45,6 +45,9 @@ PAPER_MODEL = "silcount-reference"
 ONE_VARIANT = True
 LITERATURE = False
 VISITED_STEP = "edge_test"
+PLAIN_QUADRATIC = False
+GROWTH_VARIANT = "intended"
+STYLE = ("#555555", "s")  # colour, marker in figures
 
 
 def _naive(mesh: Mesh, light: Light) -> EngineRun:
@@ -97,6 +100,11 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     """Silhouette by edge adjacency.  ``variant`` is accepted for a uniform API; there is one."""
     run = _naive(mesh, light) if engine == "naive" else _fast(mesh, light)
     return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """The reference rule uncounted (:func:`.adjacency.silhouette_edge_ids`): ascending edge ids."""
+    return silhouette_edge_ids(mesh, light)
 
 
 def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:

@@ -68,7 +68,14 @@ from silcount.detectors.base import (
     unique_ids,
     visibility_true_cost,
 )
-from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, first_orientation, keys_to_directed, replay
+from silcount.detectors.edge_array import (
+    CountedEdgeArray,
+    directed_keys,
+    first_orientation,
+    keys_to_directed,
+    plain_array_s,
+    replay,
+)
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
@@ -78,6 +85,9 @@ PAPER_MODEL = "eesd2012-ta"
 ONE_VARIANT = False
 LITERATURE = False
 VISITED_STEP = "search_S"
+PLAIN_QUADRATIC = False
+GROWTH_VARIANT = "intended"
+STYLE = ("#1b6ca8", "o")  # colour, marker in figures
 
 # ``true`` cost of the work around the array, per event (see docs/counting.md).
 FACING_FACE_COST = {"read": 2}  # face_start[p], face_start[p+1]
@@ -204,3 +214,9 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     """TA's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
     run = (_naive if engine == "naive" else _fast)(mesh, light, variant)
     return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """TA's own loops (``intended``), compiled and uncounted (HSD paper Sec. 4.1): visibility once per face,
+    then S over the light-facing faces' sides (:func:`.edge_array.plain_array_s`); ascending edge ids."""
+    return plain_array_s(mesh, mesh.face_start, mesh.side_from, mesh.side_to, facing_flags(mesh, light)[0])

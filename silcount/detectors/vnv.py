@@ -60,6 +60,7 @@ except when E is the face's side at 0-based place ``j``, which stops after
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags
@@ -72,7 +73,7 @@ from silcount.detectors.base import (
     make_silhouette,
     visibility_true_cost,
 )
-from silcount.mesh.lights import Light
+from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
 NAME = "vnv"  # what it declares of itself: see silcount.detectors.MODULES
@@ -81,6 +82,9 @@ PAPER_MODEL = "eesd2012-vnv"
 ONE_VARIANT = False
 LITERATURE = False
 VISITED_STEP = "check_counter"
+PLAIN_QUADRATIC = True
+GROWTH_VARIANT = "literal"
+STYLE = ("#d1495b", "o")  # colour, marker in figures
 
 COUNTER_COST = {"add": 1}  # counter + 1
 CHECK_COST = {"cmp": 1}  # counter == 1 (the counter is a local: no read)
@@ -166,3 +170,50 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
         n_vis = int(np.count_nonzero(run.is_facing))
         run.notes["reset_reading_edges"] = mesh.n_edges if n_vis == 1 else 0
     return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
+
+
+@njit(cache=True)
+def _each_edge_against_every_face(edges, vertices, face_start, corners, light, directional):  # pragma: no cover
+    """The printed double loop: per edge, per face, visibility and, for a visible face, containment."""
+    out = np.empty(edges.shape[0], dtype=np.int64)
+    k = 0
+    for e in range(edges.shape[0]):
+        a, b = edges[e, 0], edges[e, 1]
+        counter = 0
+        for f in range(face_start.size - 1):
+            s = face_start[f]
+            i0, i1, i2 = corners[s], corners[s + 1], corners[s + 2]
+            e1x, e1y, e1z = (
+                vertices[i1, 0] - vertices[i0, 0],
+                vertices[i1, 1] - vertices[i0, 1],
+                vertices[i1, 2] - vertices[i0, 2],
+            )
+            e2x, e2y, e2z = (
+                vertices[i2, 0] - vertices[i0, 0],
+                vertices[i2, 1] - vertices[i0, 1],
+                vertices[i2, 2] - vertices[i0, 2],
+            )
+            nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+            if directional:
+                dx, dy, dz = light[0], light[1], light[2]
+            else:
+                dx, dy, dz = light[0] - vertices[i0, 0], light[1] - vertices[i0, 1], light[2] - vertices[i0, 2]
+            if dx * nx + dy * ny + dz * nz > 0.0:
+                m = face_start[f + 1] - s
+                for j in range(m):
+                    u, w = corners[s + j], corners[s + (j + 1) % m]
+                    if (u == a and w == b) or (u == b and w == a):
+                        counter += 1
+                        break
+        if counter == 1:
+            out[k] = e
+            k += 1
+    return out[:k]
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """VnV's own loops (``intended``), compiled and uncounted (HSD paper Sec. 4.2): for each edge, for each
+    face, the visibility test and, for a visible face, whether it contains the edge; O(E F) per light."""
+    src = np.asarray(light.vector, dtype=np.float64)
+    directional = isinstance(light, DirectionalLight)
+    return _each_edge_against_every_face(mesh.edges, mesh.vertices, mesh.face_start, mesh.corners, src, directional)

@@ -5,7 +5,7 @@ source ... if it has an intersection with one of the faces of occluder it is
 not a silhouette") and by the shadow renderer's ray-cast reference.
 
 The intersection test is Moller-Trumbore in float64, in one fixed order of
-operations (:func:`_moller_trumbore`) that silcount's counted EESD test
+operations (:func:`moller_trumbore`) that silcount's counted EESD test
 repeats on counting arithmetic, so both give bit-identical answers:
 
 * ``e1 = b - a``, ``e2 = c - a``, ``p = D x e2``, ``det = e1 . p``, ``inv = 1 / det``,
@@ -37,7 +37,7 @@ _CELLS_PER_TRIANGLE = 2.0
 
 
 @nb.njit(cache=True, error_model="numpy", inline="always")
-def _moller_trumbore(ox, oy, oz, dx, dy, dz, ax, ay, az, bx, by, bz, cx, cy, cz, t_min, t_max):
+def moller_trumbore(ox, oy, oz, dx, dy, dz, ax, ay, az, bx, by, bz, cx, cy, cz, t_min, t_max):
     """(hit, t) for one ray and one triangle, in the documented order of operations."""
     e1x, e1y, e1z = bx - ax, by - ay, bz - az
     e2x, e2y, e2z = cx - ax, cy - ay, cz - az
@@ -141,7 +141,7 @@ def _trace_one(o, d, t_min, t_max, ignore, any_mode, tris, start, items, origin,
             if i == ignore:
                 continue
             tr = tris[i]
-            hit, t = _moller_trumbore(
+            hit, t = moller_trumbore(
                 o[0],
                 o[1],
                 o[2],
@@ -198,7 +198,7 @@ def _hits_one_each(origins, directions, tris, which, t_min, t_max):
     out = np.zeros(R, dtype=np.bool_)
     for r in nb.prange(R):
         o, d, tr = origins[r], directions[r], tris[which[r]]
-        out[r] = _moller_trumbore(
+        out[r] = moller_trumbore(
             o[0],
             o[1],
             o[2],
@@ -232,7 +232,7 @@ def _hits_any_listed(origins, directions, start, which, tris, t_min, t_max):
         d = directions[r * step_d]
         for q in range(start[r], start[r + 1]):
             tr = tris[which[q]]
-            hit = _moller_trumbore(
+            hit = moller_trumbore(
                 o[0],
                 o[1],
                 o[2],
@@ -365,4 +365,4 @@ class RayTracer:
         return _hits_any_listed(o, d, start, w, self.triangles, float(t_min), float(t_max))
 
 
-__all__ = ["RayTracer"]
+__all__ = ["RayTracer", "moller_trumbore"]

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, detect
+from silcount.detectors import DETECTORS, GROWTH_VARIANT, detect
 from silcount.errors import SilcountError
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh, from_polygons
@@ -33,9 +33,8 @@ from silcount.mesh.shapes import builtin_mesh
 
 SWEEP_MESHES = tuple(f"icosphere{k}" for k in range(0, 5))
 REAL_MESHES = ("cow.obj", "fandisk.obj", "bunny.ply", "teapot.obj")
-# The variant whose loops are the printed pseudo-code's (see each detector's docstring); gaussmap and cones have one.
-MEASURED_VARIANT = {"reference": "intended", "ta": "intended", "vnv": "literal", "hsd": "intended", "eesd": "literal",
-                    "gaussmap": "intended", "cones": "intended"}  # fmt: skip
+MEASURED_VARIANT = GROWTH_VARIANT
+"""The variant whose loops are the printed pseudo-code's, per detector (each module's ``GROWTH_VARIANT``)."""
 
 
 def standard_light(mesh: Mesh) -> PointLight:

@@ -26,22 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.detectors import LABELS, LITERATURE
+from silcount.detectors import LABELS, LITERATURE, STYLES
 from silcount.plots import STYLE, save_figure
 from silcount.study.fits import power_fit
 from silcount.study.literature import AGAINST, ORDER, PAPERS, size_of
 
 KIND_COLOURS = {"closed": "#1b6ca8", "open": "#d1495b", "flat": "#2e933c"}
 LEVEL_MARKERS = ("o", "s", "^", "D", "v")
-DETECTOR_STYLE = {  # colour, marker: the papers' circles, the yardsticks' other shapes
-    "ta": ("#1b6ca8", "o"),
-    "vnv": ("#d1495b", "o"),
-    "hsd": ("#edae49", "o"),
-    "eesd": ("#2e933c", "o"),
-    "reference": ("#555555", "s"),
-    "gaussmap": ("#7b4ea3", "^"),
-    "cones": ("#e07a1f", "v"),
-}
 RUN_COLOURS = ("#555555", "#1b6ca8", "#d1495b", "#edae49", "#2e933c", "#7b4ea3", "#e07a1f", "#3aa5a5", "#a0522d")
 
 
@@ -157,7 +148,7 @@ def literature(frame, out_dir: Path) -> list[Path]:
             part = frame[(frame["detector"] == det) & (frame["light_kind"] == kind)]
             if part.empty:
                 continue
-            colour, marker = DETECTOR_STYLE[det]
+            colour, marker = STYLES[det]
             ax.scatter(part["faces"], part["true_ops"], s=14, c=colour, marker=marker, alpha=0.65)
             fit = power_fit(part["faces"], part["true_ops"], f"every mesh, {kind} lights")
             if fit["alpha"] is not None:
@@ -185,7 +176,7 @@ def output_sensitivity(frame, fits: dict, out_dir: Path) -> list[Path]:
             one = part[(part["detector"] == det) & (part["light_kind"] == kind)]
             if one.empty:
                 continue
-            colour, marker = DETECTOR_STYLE[det]
+            colour, marker = STYLES[det]
             face = colour if filled else "none"
             ax.scatter(size_of(one, AGAINST["s_log2F"]), one["edge_test"], s=16, marker=marker, facecolors=face,
                        edgecolors=colour, alpha=0.7)  # fmt: skip

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from silcount.detectors import LABELS, LITERATURE
+from silcount.detectors import LABELS, LITERATURE, PAPERS
 from silcount.study.fits import power_fit
 
 if TYPE_CHECKING:
@@ -43,7 +43,6 @@ if TYPE_CHECKING:
 
     from silcount.study.work import Settings
 
-PAPERS = ("ta", "vnv", "hsd", "eesd")
 YARDSTICKS = ("reference", *LITERATURE)
 ORDER = (*PAPERS, *YARDSTICKS)
 CLAIMS = (("hsd", "ta"), ("hsd", "vnv"), ("eesd", "ta"), ("eesd", "vnv"))

@@ -100,7 +100,7 @@ def page(frame: pd.DataFrame, fits: dict, settings: Settings, failed: int) -> st
         f"detector `intended`, `{settings.engine}` engine; light kinds here: {kinds}."
     )
     timing = (
-        "Time per light: each algorithm's own compiled, uncounted loops (`silcount/detectors/plain.py`); for "
+        "Time per light: each algorithm's own compiled, uncounted loops (each detector module's `plain_edge_ids`); for "
         "the Gauss map and the normal cones, their compiled query (one numba thread) on the mesh's tree, built "
         "before the clock starts (the build is in no time; its counted cost is the `build` of `meshes.csv`), "
         f"mean of the first {settings.time_lights} light(s) of each kind; `(timed/meshes)` when a band's "

@@ -24,7 +24,7 @@ Decisions, named:
   not ``reference`` is among the detectors; its mean and population standard
   deviation (``ddof=0``) over the lights are the mesh's
   ``silhouette_edges_mean``/``_std``.
-* **Time per light** is the wall time of :func:`silcount.detectors.plain.plain_edge_ids`
+* **Time per light** is the wall time of :func:`silcount.detectors.plain_edge_ids`
   (each algorithm's own compiled, uncounted loops, ``intended``), averaged
   over the first ``time_lights`` lights after one warm-up call per process.
   For ``gaussmap`` and ``cones`` that is their fast engine's compiled query
@@ -66,7 +66,18 @@ import numpy as np
 
 from silcount.counting.arithmetic import KINDS
 from silcount.counting.cycles import Profile, builtin_profiles
-from silcount.detectors import DETECTORS, VISITED_STEP, Silhouette, detect, detect_many, differences, variants_of
+from silcount.detectors import (
+    DETECTORS,
+    PLAIN_QUADRATIC,
+    VISITED_STEP,
+    Silhouette,
+    detect,
+    detect_many,
+    differences,
+    plain_edge_ids,
+    plain_setup,
+    variants_of,
+)
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -75,7 +86,6 @@ from silcount.mesh.stats import mesh_statistics
 
 LIGHT_DISTANCE = 3.0
 LIGHT_KINDS = ("directional", "point", "both")
-QUADRATIC = ("vnv", "eesd")  # plain loops over every (edge, face) pair
 FLAT_RELATIVE = 1e-9
 """A mesh is *flat* when its vertices' smallest principal extent is at most this times the largest."""
 
@@ -214,12 +224,11 @@ def build_record(res: Silhouette) -> dict | None:
 @cache
 def _warm_up() -> None:
     """Compile (or load from numba's cache) every plain kernel and query once per process, outside the timings."""
-    from silcount.detectors.plain import PLAIN, QUERIED, plain_edge_ids
     from silcount.mesh.shapes import icosphere
 
     mesh = icosphere(1)
     for light in (DirectionalLight((0.3, 0.5, 0.8)), PointLight((3.0, 2.0, 5.0))):
-        for name in PLAIN + QUERIED:
+        for name in DETECTORS:
             plain_edge_ids(mesh, light, name)
 
 
@@ -237,20 +246,17 @@ def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple
 
 
 def _time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple[dict[str, float | None], list[str]]:
-    from silcount.detectors.plain import PLAIN, QUERIED, plain_edge_ids, tree_of
-
     out: dict[str, float | None] = {}
     errors: list[str] = []
     sample = lights[: max(settings.time_lights, 1)]
     for name in settings.detectors:
-        cost = mesh.n_edges * mesh.n_faces if name in QUADRATIC else mesh.n_faces
-        limit = settings.time_max_pairs if name in QUADRATIC else settings.time_max_faces
-        if not settings.timing or name not in PLAIN + QUERIED or cost > limit or not sample:
+        cost = mesh.n_edges * mesh.n_faces if name in PLAIN_QUADRATIC else mesh.n_faces
+        limit = settings.time_max_pairs if name in PLAIN_QUADRATIC else settings.time_max_faces
+        if not settings.timing or cost > limit or not sample:
             out[name] = None
             continue
         _warm_up()
-        if name in QUERIED:
-            tree_of(mesh, name)  # the per-mesh build, outside the clock (cached with the mesh)
+        plain_setup(mesh, name)  # a per-mesh build or merge, outside the clock (cached with the mesh)
         t0 = time.perf_counter()
         try:
             for light in sample:

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from functools import cache
 
 from silcount.counting import models
+from silcount.detectors import LABELS
 
 HOLDS, FAILS, AMBIGUOUS = "HOLDS", "FAILS", "AMBIGUOUS"
 VERDICTS = (HOLDS, FAILS, AMBIGUOUS)
@@ -22,7 +23,6 @@ PAPER_FILE = {
     "stencil2011": "stencil-zbuffer-2011-real-time-shadow.txt",
 }
 PAPER_LABEL = {v: k for k, v in PAPER_FILE.items()}
-LABEL = {"reference": "reference", "ta": "TA", "vnv": "VnV", "hsd": "HSD", "eesd": "EESD"}
 
 
 @dataclass
@@ -107,7 +107,7 @@ def num(x) -> str:
 
 
 def algo(model: str) -> str:
-    return LABEL[models.load(model)["algorithm"]]
+    return LABELS[models.load(model)["algorithm"]]
 
 
 def source_of(model_or_paper: str) -> str:

@@ -1,0 +1,204 @@
+"""EESD's rays (EESD paper Sec. 3.3, 5.3): outward points, rays, the planes, and the plain loop that casts them.
+
+Every edge ``v1 v2`` is pushed outward from its first face by ``EPS`` edge
+lengths (``extend``) and a ray is cast from there towards the light
+(``ray``); the edge is a silhouette edge iff the ray meets no face.  This
+module computes those points and rays compiled, in the counted routines'
+order of operations (:mod:`.eesd_counted`), keeps the per-mesh arrays the
+engines share (each edge's far corner, the fan triangles, the ray tracer,
+each edge's own fan triangles), the face planes of the ``literal`` reading,
+and :func:`plain_edge_ids`: the printed double loop compiled and uncounted, for
+timing (:mod:`silcount.calibrate.timing`).
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+from numba import njit
+
+from silcount.detectors.eesd_counted import EPS
+from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.model import Mesh
+from silcount.mesh.raytrace import RayTracer, moller_trumbore
+
+_CACHE: "weakref.WeakKeyDictionary[Mesh, dict]" = weakref.WeakKeyDictionary()
+
+
+def ray_data(mesh: Mesh) -> dict:
+    """Per-mesh arrays (cached): each edge's far corner in f1, fan triangles, their faces, the tracer."""
+    got = _CACHE.get(mesh)
+    if got is None:
+        start, order = mesh.edge_sides
+        first_side = order[start[:-1]]
+        apex = mesh.side_to[mesh.side_next[first_side]]
+        fan = mesh.face_sizes - 2
+        tri_face = np.repeat(np.arange(mesh.n_faces, dtype=np.int64), fan)
+        tri_start = np.zeros(mesh.n_faces + 1, dtype=np.int64)
+        np.cumsum(fan, out=tri_start[1:])
+        k = np.arange(tri_face.size) - tri_start[tri_face] + 1
+        s0 = mesh.face_start[tri_face]
+        tri_idx = np.stack([mesh.corners[s0], mesh.corners[s0 + k], mesh.corners[s0 + k + 1]], axis=1)
+        got = {"apex": apex, "tri_face": tri_face, "tri_start": tri_start, "tri_idx": tri_idx}
+        _CACHE[mesh] = got
+    return got
+
+
+def tracer(mesh: Mesh) -> RayTracer:
+    """The ray tracer over the mesh's fan triangles (cached with the mesh)."""
+    data = ray_data(mesh)
+    if "tracer" not in data:
+        data["tracer"] = RayTracer(mesh.vertices[data["tri_idx"]])
+    return data["tracer"]
+
+
+def light_values(light: Light) -> np.ndarray:
+    """The light's direction or position, as the counted routines read it."""
+    return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
+
+
+@njit(cache=True, error_model="numpy")  # an end-on edge (w = 0) divides by zero: inf or NaN, as numpy's
+def _outward(V, edges, apex, L, directional, eps):  # pragma: no cover - compiled
+    """``P`` of every edge: :func:`.eesd_counted.counted_outward_point`, operation for operation."""
+    E = edges.shape[0]
+    p = np.empty((E, 3))
+    for i in range(E):
+        a, b, c = edges[i, 0], edges[i, 1], apex[i]
+        m0 = (V[a, 0] + V[b, 0]) * 0.5
+        m1 = (V[a, 1] + V[b, 1]) * 0.5
+        m2 = (V[a, 2] + V[b, 2]) * 0.5
+        e0, e1, e2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
+        if directional:
+            d0, d1, d2 = L[0], L[1], L[2]
+        else:
+            d0, d1, d2 = m0 - L[0], m1 - L[1], m2 - L[2]
+        w0 = d1 * e2 - d2 * e1
+        w1 = d2 * e0 - d0 * e2
+        w2 = d0 * e1 - d1 * e0
+        side = (V[c, 0] - m0) * w0 + (V[c, 1] - m1) * w1 + (V[c, 2] - m2) * w2
+        sgn = -1.0 if side > 0.0 else 1.0
+        ee = e0 * e0 + e1 * e1 + e2 * e2
+        ww = w0 * w0 + w1 * w1 + w2 * w2
+        scale = eps * np.sqrt(ee / ww) * sgn
+        p[i, 0] = m0 + w0 * scale
+        p[i, 1] = m1 + w1 * scale
+        p[i, 2] = m2 + w2 * scale
+    return p
+
+
+def outward_points_and_rays(mesh: Mesh, light: Light):
+    """``extend`` and ``ray`` for every edge, compiled, in the counted routines' order of operations.
+
+    Returns ``P`` (E, 3), ray origins (E, 3), directions (E, 3), and scalar ``t_min``, ``t_max``.
+    """
+    L = light_values(light)
+    directional = isinstance(light, DirectionalLight)
+    p = _outward(mesh.vertices, mesh.edges, ray_data(mesh)["apex"], L, directional, EPS)
+    if directional:
+        return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
+    return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
+
+
+def own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Every (edge, fan triangle of one of its faces) pair, edges ascending, as a CSR: each edge's start in
+    the triangle list, and the list (cached with the mesh)."""
+    data = ray_data(mesh)
+    if "own_pairs" not in data:
+        E = mesh.n_edges
+        start, order = mesh.edge_sides
+        side_face = mesh.side_face[order]
+        side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
+        n_tri = np.diff(data["tri_start"])[side_face]
+        pair_edge = np.repeat(side_edge, n_tri)
+        pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
+            np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+        )
+        pair_start = np.searchsorted(pair_edge, np.arange(E + 1, dtype=np.int64))
+        data["own_pairs"] = (pair_start, pair_tri)
+    return data["own_pairs"]
+
+
+def face_planes(mesh: Mesh) -> np.ndarray:
+    """(F, 4) ``a, b, c, d`` of every face, in :func:`counted_plane`'s order of operations."""
+    p0 = mesh.face_p0
+    s = mesh.face_start[:-1]
+    e1 = mesh.vertices[mesh.corners[s + 1]] - p0
+    e2 = mesh.vertices[mesh.corners[s + 2]] - p0
+    n = np.stack(
+        [
+            e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1],
+            e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
+            e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0],
+        ],
+        axis=1,
+    )
+    d = 0.0 - (n[:, 0] * p0[:, 0] + n[:, 1] * p0[:, 1] + n[:, 2] * p0[:, 2])
+    return np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
+
+
+@njit(cache=True, error_model="numpy")  # as the inlined ray-triangle test: det == 0 gives inf, not an exception
+def _each_ray_against_every_face(origins, directions, t_min, t_max, vertices, face_start, corners):  # pragma: no cover
+    """The printed loop: for each edge, its ray against every face (fan triangles); kept iff none is met."""
+    out = np.empty(origins.shape[0], dtype=np.int64)
+    k = 0
+    for e in range(origins.shape[0]):
+        ox, oy, oz = origins[e, 0], origins[e, 1], origins[e, 2]
+        dx, dy, dz = directions[e, 0], directions[e, 1], directions[e, 2]
+        hits = 0
+        for f in range(face_start.size - 1):
+            s = face_start[f]
+            a = corners[s]
+            for j in range(s + 1, face_start[f + 1] - 1):
+                b, c = corners[j], corners[j + 1]
+                hit, _ = moller_trumbore(
+                    ox,
+                    oy,
+                    oz,
+                    dx,
+                    dy,
+                    dz,
+                    vertices[a, 0],
+                    vertices[a, 1],
+                    vertices[a, 2],
+                    vertices[b, 0],
+                    vertices[b, 1],
+                    vertices[b, 2],
+                    vertices[c, 0],
+                    vertices[c, 1],
+                    vertices[c, 2],
+                    t_min,
+                    t_max,
+                )
+                if hit:
+                    hits += 1
+                    break
+        if hits == 0:
+            out[k] = e
+            k += 1
+    return out[:k]
+
+
+def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+    """EESD's own loops (``intended``), compiled and uncounted: ascending edge ids (O(E F) per light)."""
+    _, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
+    return _each_ray_against_every_face(
+        np.ascontiguousarray(origins),
+        np.ascontiguousarray(directions),
+        float(t_min),
+        float(t_max),
+        mesh.vertices,
+        mesh.face_start,
+        mesh.corners,
+    )
+
+
+__all__ = [
+    "ray_data",
+    "tracer",
+    "light_values",
+    "outward_points_and_rays",
+    "own_pairs",
+    "face_planes",
+    "plain_edge_ids",
+]
