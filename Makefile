@@ -20,6 +20,8 @@ $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
 	$(BIN)/pip install --quiet -c constraints.txt -e '.[test,lint,gl]'
+	@echo "byte-compiling the venv and silcount into $(PYTHONPYCACHEPREFIX) (imports cannot when PYTHONDONTWRITEBYTECODE is set)"
+	$(BIN)/python -m compileall -q -j 0 $(VENV)/lib silcount
 	@echo "compiling numba's kernels into $(NUMBA_CACHE_DIR) (once; about 80 s)"
 	$(BIN)/silcount audit data/icosphere4.obj --variant both --quiet --format json --out $(VENV)/warm-up.json
 	touch $(STAMP)

@@ -25,10 +25,14 @@ import os
 import sys
 from types import ModuleType
 
-# numba's compiled kernels are cached inside the virtual environment unless NUMBA_CACHE_DIR says otherwise
-# (the Makefile's own setting), so that those ``make install`` compiles serve every later command
+# numba's compiled kernels and Python's bytecode are read from inside the virtual environment unless
+# NUMBA_CACHE_DIR and PYTHONPYCACHEPREFIX say otherwise (the Makefile's own settings), so that what
+# ``make install`` compiles serves every later command, and the processes it starts (Dask's workers),
+# even where PYTHONDONTWRITEBYTECODE keeps imports from writing bytecode themselves
 if sys.prefix != sys.base_prefix:
     os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(sys.prefix, "cache", "numba"))
+    if sys.pycache_prefix is None:
+        sys.pycache_prefix = os.environ.setdefault("PYTHONPYCACHEPREFIX", os.path.join(sys.prefix, "cache", "pycache"))
 
 from silcount.cli import audit, calibrate, claims, compare, corpus, figures, render, report, tables
 from silcount.errors import SilcountError
