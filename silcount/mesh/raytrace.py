@@ -57,6 +57,16 @@ def moller_trumbore(ox, oy, oz, dx, dy, dz, ax, ay, az, bx, by, bz, cx, cy, cz, 
     return hit, t
 
 
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def _meets(o, d, tr, t_min, t_max):  # pragma: no cover - compiled
+    """:func:`moller_trumbore` of the ray ``o + t d`` and the triangle ``tr`` (3, 3): ``(hit, t)``."""
+    return moller_trumbore(
+        o[0], o[1], o[2], d[0], d[1], d[2],
+        tr[0, 0], tr[0, 1], tr[0, 2], tr[1, 0], tr[1, 1], tr[1, 2], tr[2, 0], tr[2, 1], tr[2, 2],
+        t_min, t_max,
+    )  # fmt: skip
+
+
 @nb.njit(cache=True)
 def _cell_ranges(lo, hi, origin, size, dims, pad):
     T = lo.shape[0]
@@ -141,25 +151,7 @@ def _trace_one(o, d, t_min, t_max, ignore, any_mode, tris, start, items, origin,
             if i == ignore:
                 continue
             tr = tris[i]
-            hit, t = moller_trumbore(
-                o[0],
-                o[1],
-                o[2],
-                d[0],
-                d[1],
-                d[2],
-                tr[0, 0],
-                tr[0, 1],
-                tr[0, 2],
-                tr[1, 0],
-                tr[1, 1],
-                tr[1, 2],
-                tr[2, 0],
-                tr[2, 1],
-                tr[2, 2],
-                t_min,
-                t_max,
-            )
+            hit, t = _meets(o, d, tr, t_min, t_max)
             if hit and (t < best_t or (t == best_t and i < best_i)):
                 best_t, best_i = t, i
                 if any_mode:
@@ -198,25 +190,7 @@ def _hits_one_each(origins, directions, tris, which, t_min, t_max):
     out = np.zeros(R, dtype=np.bool_)
     for r in nb.prange(R):
         o, d, tr = origins[r], directions[r], tris[which[r]]
-        out[r] = moller_trumbore(
-            o[0],
-            o[1],
-            o[2],
-            d[0],
-            d[1],
-            d[2],
-            tr[0, 0],
-            tr[0, 1],
-            tr[0, 2],
-            tr[1, 0],
-            tr[1, 1],
-            tr[1, 2],
-            tr[2, 0],
-            tr[2, 1],
-            tr[2, 2],
-            t_min[r],
-            t_max[r],
-        )[0]
+        out[r] = _meets(o, d, tr, t_min[r], t_max[r])[0]
     return out
 
 
@@ -232,25 +206,7 @@ def _hits_any_listed(origins, directions, start, which, tris, t_min, t_max):
         d = directions[r * step_d]
         for q in range(start[r], start[r + 1]):
             tr = tris[which[q]]
-            hit = moller_trumbore(
-                o[0],
-                o[1],
-                o[2],
-                d[0],
-                d[1],
-                d[2],
-                tr[0, 0],
-                tr[0, 1],
-                tr[0, 2],
-                tr[1, 0],
-                tr[1, 1],
-                tr[1, 2],
-                tr[2, 0],
-                tr[2, 1],
-                tr[2, 2],
-                t_min,
-                t_max,
-            )[0]
+            hit = _meets(o, d, tr, t_min, t_max)[0]
             if hit:
                 out[r] = True
                 break
