@@ -259,7 +259,7 @@ def test_extend_step_geometry(light):
 def test_extend_step_with_the_light_in_the_faces_plane():
     # A flat grid lit from a point in its own plane: the far corner lies in the plane of the edge and the
     # light, side = 0 exactly for every edge, and the routine's tie rule (sgn = +1) decides the direction.
-    from silcount.detectors.eesd import outward_points_and_rays
+    from silcount.detectors.eesd_rays import outward_points_and_rays
 
     g = np.arange(4.0)
     x, y = np.meshgrid(g, g)
