@@ -97,3 +97,29 @@ def test_tree_for_is_the_tree_detect_uses():
     silcount.detect(mesh, LIGHTS[0], "gaussmap")
     assert hierarchy_query.tree_for(mesh, gaussmap.SCHEME) is first
     assert hierarchy_query.tree_for(mesh, gaussmap.SCHEME, 2, 2) is not first
+
+
+@pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
+@pytest.mark.parametrize("overflowing", [False, True])
+def test_the_compiled_build_is_the_counted_build_array_for_array(scheme, overflowing):
+    # The fast build reads each edge's faces in place and frees its temporaries early; the tree it
+    # returns must still be the naive build's, every array, the non-finite faces' ``rest`` included
+    # (coordinates of 1e160: the first face's normal, 1e320, overflows; test_literature.py's mesh).
+    from silcount.counting.arithmetic import OpCounter
+    from silcount.detectors.hierarchy_naive import build_naive
+    from silcount.mesh.model import from_polygons
+
+    if overflowing:
+        big = 1e160
+        v = np.array([[0, 0, 0], [big, 0, 0], [0, big, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], dtype=np.float64)
+        mesh = from_polygons(v, [[0, 1, 2], [3, 4, 5], [0, 3, 4], [0, 4, 1]])
+    else:
+        mesh = silcount.builtin_mesh("icosphere2")
+    with np.errstate(over="ignore", invalid="ignore"):  # the overflowing normal, as in test_literature.py
+        fast = hierarchy.build_fast(mesh, scheme, 3, 3)
+        naive = build_naive(mesh, scheme, 3, 3, OpCounter())
+    assert (fast.rest.size > 0) == overflowing
+    for name, value in vars(fast).items():
+        if isinstance(value, np.ndarray):
+            assert np.array_equal(value, getattr(naive, name), equal_nan=value.dtype.kind == "f"), name
+    assert fast.build_steps == naive.build_steps and fast.build_tally == naive.build_tally

@@ -173,19 +173,31 @@ def n_leaves(nodes: np.ndarray) -> int:
     return int(np.count_nonzero(nodes[:, 2] == np.arange(1, nodes.shape[0] + 1)))
 
 
+def _split(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
+    """The tree's edge ids (every face finite; ``None`` when that is every edge) and the others (``rest``)."""
+    finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
+    if finite.all():
+        return None, np.zeros(0, dtype=np.int64)
+    start, order = mesh.edge_sides
+    bad = np.add.reduceat((~finite[mesh.side_face[order]]).astype(np.int64), start[:-1]) > 0
+    return np.flatnonzero(~bad), np.flatnonzero(bad)
+
+
+def _key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Each tree edge's key faces: its first two sides' faces (a boundary edge's one face twice)."""
+    start, order = mesh.edge_sides
+    first = start[:-1] if ids is None else start[ids]
+    second = first + (mesh.edge_valence > 1 if ids is None else mesh.edge_valence[ids] > 1)
+    return mesh.side_face[order[first]], mesh.side_face[order[second]]
+
+
 def tree_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The edges in the tree (every face finite), the others, the edges' face CSR, and each edge's key faces."""
     start, order = mesh.edge_sides
-    faces = mesh.side_face[order]
-    finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
-    if finite.all():
-        ids, rest = np.arange(mesh.n_edges, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    else:
-        bad = np.add.reduceat((~finite[faces]).astype(np.int64), start[:-1]) > 0
-        ids, rest = np.flatnonzero(~bad), np.flatnonzero(bad)
-    f1 = faces[start[ids]]
-    f2 = faces[start[ids] + (mesh.edge_valence[ids] > 1)]
-    return ids, rest, start, faces, np.stack([f1, f2], axis=1)
+    ids, rest = _split(mesh)
+    f1, f2 = _key_faces(mesh, ids)
+    ids = np.arange(mesh.n_edges, dtype=np.int64) if ids is None else ids
+    return ids, rest, start, mesh.side_face[order], np.stack([f1, f2], axis=1)
 
 
 # ---- the fast build -------------------------------------------------------------------------------------
@@ -226,21 +238,26 @@ def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _renumber(perm, ids, start, faces, p0, nrm):  # pragma: no cover - compiled
-    """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order."""
+def _renumber(perm, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
+    """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order.
+
+    ``ids``: the tree's edge ids, or empty for every edge; edge ``e``'s faces are
+    ``side_face[sides[start[e]:start[e + 1]]]`` (read in place: no copy of the 2E face references).
+    """
     T, F = perm.size, p0.shape[0]
     order = np.empty(T, dtype=np.int64)
     e_start = np.empty(T + 1, dtype=np.int64)
     e_start[0] = 0
     local = np.full(F, -1, dtype=np.int32)
     lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
-    e_faces = np.empty(faces.size, dtype=np.int32)
+    e_faces = np.empty(sides.size, dtype=np.int32)
+    every = ids.size == 0
     nxt, w = 0, 0
     for i in range(T):
-        e = ids[perm[i]]
+        e = perm[i] if every else ids[perm[i]]
         order[i] = e
         for q in range(start[e], start[e + 1]):
-            f = faces[q]
+            f = side_face[sides[q]]
             if local[f] < 0:
                 nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
             e_faces[w] = local[f]
@@ -302,17 +319,24 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     :func:`.hierarchy_naive.build_naive` executes them (it has no data-dependent branch but the
     first visit of each face, which happens once per face).
     """
-    ids, rest, start, faces, key_faces = tree_edges(mesh)
-    keys = scheme.fast(mesh, np.ascontiguousarray(key_faces[:, 0]), np.ascontiguousarray(key_faces[:, 1]))
+    start, sides = mesh.edge_sides
+    ids, rest = _split(mesh)
+    keys = scheme.fast(mesh, *_key_faces(mesh, ids))  # each temporary freed as soon as it is used:
     perm = _radix_argsort(np.ascontiguousarray(keys, dtype=np.uint64), scheme.bits, DIGIT_BITS)
-    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, ids, start, faces, mesh.face_p0, mesh.face_normals)
+    del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
+    tree_ids = np.zeros(0, dtype=np.int64) if ids is None else ids
+    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, tree_ids, start, sides, mesh.side_face,
+                                                          mesh.face_p0, mesh.face_normals)  # fmt: skip
+    del perm, tree_ids, ids
+    counts = mesh.edge_valence[rest]
+    r_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    r_sides = sides[np.repeat(start[rest], counts) + np.arange(r_start[-1]) - np.repeat(r_start[:-1], counts)]
+    r_faces = local[mesh.side_face[r_sides]]
+    del local, r_sides
     nodes, depth = shape(order.size, leaf_size, fanout)
     bounds = np.empty((nodes.shape[0], 12), dtype=np.float64)
     boundary = np.zeros(nodes.shape[0], dtype=np.bool_)
     _node_bounds(e_start, e_faces, lnrm, lp0, nodes, bounds, boundary)
-    counts = mesh.edge_valence[rest]
-    r_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    r_faces = local[faces[np.repeat(start[rest], counts) + np.arange(r_start[-1]) - np.repeat(r_start[:-1], counts)]]
     p0_max = float(np.abs(bounds[0, 6:]).max()) if order.size else 0.0
     sizes = {"faces": mesh.n_faces, "tree_edges": int(order.size), "tree_sides": int(e_faces.size),
              "rest_edges": int(rest.size), "rest_sides": int(r_faces.size), "nodes": int(nodes.shape[0]),
