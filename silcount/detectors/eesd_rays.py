@@ -105,16 +105,14 @@ def own_pairs(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     the triangle list, and the list (cached with the mesh)."""
     data = ray_data(mesh)
     if "own_pairs" not in data:
-        E = mesh.n_edges
         start, order = mesh.edge_sides
-        side_face = mesh.side_face[order]
-        side_edge = np.repeat(np.arange(E, dtype=np.int64), mesh.edge_valence)
+        side_face = mesh.side_face[order]  # sides in edge order
         n_tri = np.diff(data["tri_start"])[side_face]
-        pair_edge = np.repeat(side_edge, n_tri)
         pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
             np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
         )
-        pair_start = np.searchsorted(pair_edge, np.arange(E + 1, dtype=np.int64))
+        pair_start = np.zeros(mesh.n_edges + 1, dtype=np.int64)  # every edge has a side
+        np.cumsum(np.add.reduceat(n_tri, start[:-1]), out=pair_start[1:])
         data["own_pairs"] = (pair_start, pair_tri)
     return data["own_pairs"]
 

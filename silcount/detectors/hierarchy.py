@@ -238,10 +238,10 @@ def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _renumber(perm, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
+def _renumber(perm, every, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
     """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order.
 
-    ``ids``: the tree's edge ids, or empty for every edge; edge ``e``'s faces are
+    ``perm`` sorts the tree's edges: every edge (``every``) or ``ids``; edge ``e``'s faces are
     ``side_face[sides[start[e]:start[e + 1]]]`` (read in place: no copy of the 2E face references).
     """
     T, F = perm.size, p0.shape[0]
@@ -251,7 +251,6 @@ def _renumber(perm, ids, start, sides, side_face, p0, nrm):  # pragma: no cover 
     local = np.full(F, -1, dtype=np.int32)
     lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
     e_faces = np.empty(sides.size, dtype=np.int32)
-    every = ids.size == 0
     nxt, w = 0, 0
     for i in range(T):
         e = perm[i] if every else ids[perm[i]]
@@ -324,10 +323,11 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     keys = scheme.fast(mesh, *_key_faces(mesh, ids))  # each temporary freed as soon as it is used:
     perm = _radix_argsort(np.ascontiguousarray(keys, dtype=np.uint64), scheme.bits, DIGIT_BITS)
     del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
-    tree_ids = np.zeros(0, dtype=np.int64) if ids is None else ids
-    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, tree_ids, start, sides, mesh.side_face,
-                                                          mesh.face_p0, mesh.face_normals)  # fmt: skip
-    del perm, tree_ids, ids
+    every = ids is None
+    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, every, np.zeros(0, dtype=np.int64) if every else ids,
+                                                          start, sides, mesh.side_face, mesh.face_p0,
+                                                          mesh.face_normals)  # fmt: skip
+    del perm, ids
     counts = mesh.edge_valence[rest]
     r_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     r_sides = sides[np.repeat(start[rest], counts) + np.arange(r_start[-1]) - np.repeat(r_start[:-1], counts)]

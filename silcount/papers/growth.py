@@ -33,8 +33,6 @@ from silcount.mesh.shapes import builtin_mesh
 
 SWEEP_MESHES = tuple(f"icosphere{k}" for k in range(0, 5))
 REAL_MESHES = ("cow.obj", "fandisk.obj", "bunny.ply", "teapot.obj")
-MEASURED_VARIANT = GROWTH_VARIANT
-"""The variant whose loops are the printed pseudo-code's, per detector (each module's ``GROWTH_VARIANT``)."""
 
 
 def standard_light(mesh: Mesh) -> PointLight:
@@ -83,7 +81,7 @@ class Run:
 
 def run(detector: str, mesh: Mesh) -> Run:
     """Tallies of ``detector`` (its measured variant, fast engine) on ``mesh`` for :func:`standard_light`."""
-    variant = MEASURED_VARIANT[detector]
+    variant = GROWTH_VARIANT[detector]  # the variant whose loops are the printed pseudo-code's
     out = Run(detector, variant, mesh.name, mesh.n_faces, mesh.n_edges, float(mesh.mean_sides))
     try:
         res = detect(mesh, standard_light(mesh), detector, variant=variant, engine="fast")
