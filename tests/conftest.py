@@ -37,8 +37,9 @@ settings.load_profile(os.environ.get("SILCOUNT_HYPOTHESIS_PROFILE", "ci"))
 
 
 def mesh_dir() -> Path | None:
+    """``SILCOUNT_MESH_DIR`` made absolute (a relative one is the caller's working directory's)."""
     d = os.environ.get("SILCOUNT_MESH_DIR")
-    return Path(d) if d else None
+    return Path(d).resolve() if d else None
 
 
 @pytest.fixture

@@ -122,9 +122,9 @@ def test_scene_transform_scale_rotate_translate(tmp_path):
 
 def test_open_caster_renders_with_a_warning_naming_its_open_edges(tmp_path, shared_mesh):
     shared_mesh("bunny.ply")  # skips without SILCOUNT_MESH_DIR
-    import os
+    from conftest import mesh_dir
 
-    bunny = os.path.join(os.environ["SILCOUNT_MESH_DIR"], "bunny.ply")
+    bunny = str(mesh_dir() / "bunny.ply")  # absolute: the scene file's own folder resolves relative paths
     doc = {
         "spec": "silcount-scene/1",
         "resolution": [48, 48],
