@@ -211,6 +211,19 @@ def test_the_largest_units_start_first_and_run_on_the_cores_per_worker(folder, m
     assert {t for *_, t in started} == {1}  # 4 cores // 4 workers
 
 
+
+def test_process_workers_are_handed_one_unit_at_a_time(folder):
+    # Dask's processes scheduler hands out batches of 6 ready tasks by default: with 4 units and 2 workers
+    # all 4 would be dispatched at once, two to each worker, and the largest-first order would be lost
+    # between them.  Handed out one at a time, no more units are in flight than there are workers.
+    from dask.callbacks import Callback
+
+    in_flight: list[int] = []
+    with Callback(pretask=lambda key, dsk, state: in_flight.append(len(state["running"]))):
+        result = corpus([folder], cache=False, **{**SMALL, "scheduler": "processes", "workers": 2})
+    assert len(in_flight) == 4 and max(in_flight) <= 2, in_flight
+    assert result.document == corpus([folder], cache=False, **SMALL).document
+
 def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
     from silcount.cli.main import main
 

@@ -22,7 +22,11 @@ Scheduling (docs/corpus.md, "Scheduling"):
   leave the other workers idle at the end.  Locally the order is carried by
   the task names (Dask's local schedulers run independent tasks in
   descending name order; ``tests/test_corpus.py`` checks the start order);
-  on a cluster by ``priority``.
+  on a cluster by ``priority``.  Dask's ``processes`` scheduler hands its
+  workers batches of 6 ready tasks by default (its ``chunksize``): the six
+  largest units then ran one after another on one worker while the other
+  took the next six, and the last batch left a worker idle for a whole
+  batch; units are therefore handed out one at a time (``chunksize=1``).
 * **one level of parallelism.**  Each unit runs numba's parallel kernels on
   ``cores // workers`` threads locally (all cores for one worker, one thread
   each for two workers on two cores) and on one thread on a cluster, whose
@@ -143,7 +147,7 @@ def _local(
         for name, i in names.items()
     ]
     with Collect():
-        dask.compute(*tasks, scheduler=scheduler, num_workers=workers)
+        dask.compute(*tasks, scheduler=scheduler, num_workers=workers, chunksize=1)  # one unit per hand-out
 
 
 def _distributed(items: list[Item], todo: list[int], settings: Settings, address: str, finish: Callable) -> None:
