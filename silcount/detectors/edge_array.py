@@ -15,8 +15,9 @@ array"; a found edge is deleted, a missing one is appended.  Both TA and HSD
   bookkeeping (not counted).
 * :func:`replay` computes the same outcome and the same counts without the
   quadratic scan (the ``fast`` engines): S is a sequence of insertion slots;
-  the position of a live element is the number of live elements inserted
-  before it, kept in a Fenwick tree; the live slots of each directed edge form
+  the position of a live element is the number of elements inserted before
+  it less those of them already deleted, the deletions kept in a Fenwick
+  tree (an append takes the next slot and touches no tree); the live slots of each directed edge form
   a FIFO queue (a search finds the front-most match, i.e. the oldest live
   copy; appends go to the back), so duplicates, non-manifold edges and
   inconsistent winding are replayed exactly as the array would behave.
@@ -92,23 +93,20 @@ def _enqueue(s, key, slot_key, alive, head, tail, nxt):  # pragma: no cover - co
 
 @njit(cache=True)
 def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover - compiled
+    """S's searches over slots in insertion order; a Fenwick tree counts the *deleted* slots, so a slot's place
+    in S is its slot number less the deletions before it, and an insertion (always the last slot) costs no update."""
     n_init = initial.size
     n_sides = 0
     for p in range(poly_facing.size):
         if poly_facing[p]:
             n_sides += start[p + 1] - start[p]
     n_slots = n_init + n_sides
-    tree = np.zeros(n_slots + 1, dtype=np.int64)  # Fenwick tree over slots (1-based)
+    dead = np.zeros(n_slots + 1, dtype=np.int64)  # Fenwick tree over slots (1-based): deleted slots
     alive = np.zeros(n_slots, dtype=np.bool_)
     slot_key = np.empty(n_slots, dtype=np.int64)
     nxt = np.full(n_slots, -1, dtype=np.int64)  # next live slot with the same key
     head = np.full(n_keys, -1, dtype=np.int64)
     tail = np.full(n_keys, -1, dtype=np.int64)
-    tree[1 : n_init + 1] = 1  # O(n) Fenwick build over the initial ones
-    for i in range(1, n_slots + 1):
-        parent = i + (i & -i)
-        if parent <= n_slots:
-            tree[parent] += tree[i]
     for s in range(n_init):
         _enqueue(s, initial[s], slot_key, alive, head, tail, nxt)
     size = n_init
@@ -126,16 +124,16 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
             searched += 1
             s = head[rev]
             if s >= 0:
-                pos = 0  # live slots before s
+                pos = s  # live slots before s: the slots before it less the deleted ones
                 i = s
                 while i > 0:
-                    pos += tree[i]
+                    pos -= dead[i]
                     i -= i & -i
                 examined += pos + 1
                 shifted += size - pos - 1
                 i = s + 1
                 while i <= n_slots:
-                    tree[i] -= 1
+                    dead[i] += 1
                     i += i & -i
                 alive[s] = False
                 head[rev] = nxt[s]
@@ -145,13 +143,8 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
                 deleted += 1
             else:
                 examined += size
-                s = used
+                _enqueue(used, key, slot_key, alive, head, tail, nxt)
                 used += 1
-                i = s + 1
-                while i <= n_slots:
-                    tree[i] += 1
-                    i += i & -i
-                _enqueue(s, key, slot_key, alive, head, tail, nxt)
                 size += 1
     live = slot_key[:used][alive[:used]]
     return live, searched, examined, deleted, used - n_init, shifted
