@@ -145,15 +145,16 @@ def _query_serial(bounds, boundary, nodes, depth, e_start, e_faces, order, rest,
 
 @njit(cache=True, parallel=True)
 def _query(bounds, boundary, nodes, depth, e_start, e_faces, order, rest, r_start, r_faces, p0, nrm, light,
-           directional, out, stats, task_depth):  # fmt: skip  # pragma: no cover - compiled
+           directional, out, stats, task_depth, max_tasks):  # fmt: skip  # pragma: no cover - compiled
     """Silhouette edge ids into ``out``, ascending by position (tree edges in leaf order, then ``rest``).
 
-    The nodes above ``task_depth`` are walked first; the subtrees they reach at that depth are then
-    walked in parallel, each writing from its first edge position; the runs are compacted in order.
-    The steps are those of one serial walk: each node is tested exactly once either way.
+    The nodes above ``task_depth`` are walked first; the subtrees they reach at that depth (at most
+    ``max_tasks``, the fan-out to that power) are then walked in parallel, each writing from its first
+    edge position; the runs are compacted in order.  The steps are those of one serial walk: each node
+    is tested exactly once either way.
     """
     N = nodes.shape[0]
-    tasks = np.zeros(N + 1, dtype=np.int64)
+    tasks = np.zeros(min(N, max_tasks) + 1, dtype=np.int64)
     k = 0
     if N > 0:
         k = _walk(0, N, bounds, boundary, nodes, e_start, e_faces, order, p0, nrm, light, directional, out, 0,
@@ -190,7 +191,7 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
             tree.rest_start, tree.rest_faces, tree.p0, tree.nrm, np.asarray(light.vector, dtype=np.float64),
             directional, out, stats)  # fmt: skip
     if tree.n_nodes >= _PARALLEL_NODES:
-        k = _query(*args, _TASK_DEPTH)
+        k = _query(*args, _TASK_DEPTH, tree.fanout**_TASK_DEPTH)
     else:
         k = _query_serial(*args)
     steps = {name: int(v) for name, v in zip(STEP_NAMES[:-1], stats[:8])}
