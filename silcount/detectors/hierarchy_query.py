@@ -39,18 +39,24 @@ def _facing_value(p0, nrm, f, lx, ly, lz, directional):  # pragma: no cover - co
 
 @njit(cache=True)
 def _test_edges(starts, faces, ids, lo, hi, p0, nrm, lx, ly, lz, directional, out, k, stats):  # pragma: no cover
-    """The reference rule for edges ``lo .. hi - 1`` of a face CSR: exactly one face lit; returns the new ``k``."""
+    """The reference rule for edges ``lo .. hi - 1`` of a face CSR: exactly one face lit; returns the new ``k``.
+
+    Adds the edges tested, their faces evaluated and the ties among them to ``stats`` 6, 7 and 9.
+    """
+    ties = 0
     for e in range(lo, hi):
-        stats[6] += 1
         count = 0
         for q in range(starts[e], starts[e + 1]):
-            stats[7] += 1
             d = _facing_value(p0, nrm, faces[q], lx, ly, lz, directional)
-            stats[9] += d == 0.0
+            ties += d == 0.0
             count += d > 0.0
         if count == 1:
             out[k] = ids[e]
             k += 1
+    if hi > lo:
+        stats[6] += hi - lo
+        stats[7] += starts[hi] - starts[lo]
+        stats[9] += ties
     return k
 
 
@@ -64,6 +70,24 @@ def _products(a, n_lo, n_hi):  # pragma: no cover - compiled
     return q, p
 
 
+@njit(cache=True, inline="always")
+def _axis(lc, n_lo, n_hi, p_lo, p_hi, directional):  # pragma: no cover - compiled
+    """The extremes of one axis's rounded term ``fl(a n)`` over a node's boxes (at their corners).
+
+    ``a`` is the light's coordinate ``lc`` (directional) or ``fl(lc - p)`` for ``p`` in ``[p_lo, p_hi]``,
+    whose extremes are ``fl(lc - p_hi)`` and ``fl(lc - p_lo)``; ``n`` is in ``[n_lo, n_hi]``.
+    """
+    if directional:
+        return _products(lc, n_lo, n_hi)
+    lo_c, hi_c = _products(lc - p_hi, n_lo, n_hi)
+    lo2, hi2 = _products(lc - p_lo, n_lo, n_hi)
+    if lo2 < lo_c:
+        lo_c = lo2
+    if hi2 > hi_c:
+        hi_c = hi2
+    return lo_c, hi_c
+
+
 @njit(cache=True)
 def _walk(lo, hi, bounds, boundary, nodes, e_start, e_faces, order, p0, nrm, light, directional, out, k, stats,
           tasks, task_depth, depth):  # fmt: skip  # pragma: no cover - compiled
@@ -73,57 +97,49 @@ def _walk(lo, hi, bounds, boundary, nodes, e_start, e_faces, order, p0, nrm, lig
     tested but appended to ``tasks`` (``tasks[0]`` counts them), for :func:`_query` to run in parallel.
     ``stats`` (in :data:`.hierarchy.STEP_NAMES` order, then ties): node tests, nodes proved all lit,
     all lit but opened (a boundary edge below), all unlit, internal nodes opened, leaves opened, edges
-    tested, their faces evaluated, (unused), face ties among the evaluations.
+    tested, their faces evaluated, (unused), face ties among the evaluations.  The node counts are kept
+    in locals and added to ``stats`` at the end; the three axes' terms are summed in axis order, as
+    :func:`.hierarchy_naive.query_naive` sums them.
     """
     lx, ly, lz = light[0], light[1], light[2]
+    tested = lit = lit_open = unlit = opened = leaves = 0
     i = lo
     while i < hi:
-        if depth[i] == task_depth:
+        skip = nodes[i, 2]
+        if task_depth >= 0 and depth[i] == task_depth:
             tasks[0] += 1
             tasks[tasks[0]] = i
-            i = nodes[i, 2]
+            i = skip
             continue
-        stats[0] += 1
-        b = bounds[i]
-        lb = 0.0
-        ub = 0.0
-        for c in range(3):
-            if directional:
-                a_lo = light[c]
-                a_hi = light[c]
-            else:
-                a_lo = light[c] - b[9 + c]
-                a_hi = light[c] - b[6 + c]
-            # the extremes of fl(a n) over a in [a_lo, a_hi], n in [b[c], b[3 + c]]: at the corners
-            lo_c, hi_c = _products(a_lo, b[c], b[3 + c])
-            if not directional:
-                lo2, hi2 = _products(a_hi, b[c], b[3 + c])
-                if lo2 < lo_c:
-                    lo_c = lo2
-                if hi2 > hi_c:
-                    hi_c = hi2
-            if c == 0:
-                lb, ub = lo_c, hi_c
-            else:
-                lb = lb + lo_c
-                ub = ub + hi_c
+        tested += 1
+        x0, x1 = _axis(lx, bounds[i, 0], bounds[i, 3], bounds[i, 6], bounds[i, 9], directional)
+        y0, y1 = _axis(ly, bounds[i, 1], bounds[i, 4], bounds[i, 7], bounds[i, 10], directional)
+        z0, z1 = _axis(lz, bounds[i, 2], bounds[i, 5], bounds[i, 8], bounds[i, 11], directional)
+        lb = (x0 + y0) + z0
+        ub = (x1 + y1) + z1
         if lb > 0.0:
             if not boundary[i]:
-                stats[1] += 1
-                i = nodes[i, 2]
+                lit += 1
+                i = skip
                 continue
-            stats[2] += 1
+            lit_open += 1
         elif ub <= 0.0:
-            stats[3] += 1
-            i = nodes[i, 2]
+            unlit += 1
+            i = skip
             continue
-        if nodes[i, 2] != i + 1:
-            stats[4] += 1
+        if skip != i + 1:
+            opened += 1
         else:
-            stats[5] += 1
+            leaves += 1
             k = _test_edges(e_start, e_faces, order, nodes[i, 0], nodes[i, 1], p0, nrm, lx, ly, lz, directional, out,
                             k, stats)  # fmt: skip
         i += 1
+    stats[0] += tested
+    stats[1] += lit
+    stats[2] += lit_open
+    stats[3] += unlit
+    stats[4] += opened
+    stats[5] += leaves
     return k
 
 
