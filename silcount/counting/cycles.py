@@ -66,11 +66,14 @@ class Profile:
     def cycles(self, tally: Mapping[str, float]) -> float:
         """Weighted total of a tally; a kind counted but not weighed fails, naming it."""
         w = self.weights
-        if not w.keys() >= tally.keys():
-            unweighed = sorted(k for k, v in tally.items() if v and k not in w)
-            if unweighed:
-                raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
-        return sum(w[k] * v for k, v in tally.items() if v)
+        total: float = 0  # summed in the tally's order, as sum() over it would
+        for k, v in tally.items():
+            if v:
+                if k not in w:
+                    unweighed = sorted(k for k, v in tally.items() if v and k not in w)
+                    raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
+                total += w[k] * v
+        return total
 
 
 def cycles_dir() -> Path:

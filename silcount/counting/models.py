@@ -75,7 +75,7 @@ def paper_tally(name: str, steps: dict[str, int], params: dict[str, int | float]
     total: dict[str, int] = {k: 0 for k in KINDS}
     for step, count in steps.items():
         for kind, cost in costs.get(step, {}).items():
-            value = cost.subs(subs)
+            value = cost if cost.is_number else cost.subs(subs)  # a constant needs no substitution
             if not value.is_number:
                 raise ValueError(f"cost of {name}:{step}:{kind} = {cost} needs {value.free_symbols}")
             total[kind] = total.get(kind, 0) + int(count) * int(value)
