@@ -29,6 +29,7 @@ is ``k ^ 1``; this is a relabelling of the packed keys, not a different rule.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -212,13 +213,34 @@ def directed_keys(side_edge: np.ndarray, side_from: np.ndarray, side_to: np.ndar
     return 2 * np.asarray(side_edge, dtype=np.int64) + (np.asarray(side_from) > np.asarray(side_to))
 
 
-def keys_to_directed(edges: np.ndarray, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Edge ids and (k, 2) directed vertex pairs of directed keys."""
-    ids = keys >> 1
-    pairs = edges[ids].copy()
-    flip = (keys & 1).astype(bool)
-    pairs[flip] = pairs[flip][:, ::-1]
+_SIDE_KEYS: "weakref.WeakKeyDictionary[Mesh, np.ndarray]" = weakref.WeakKeyDictionary()
+
+
+def side_keys(mesh: Mesh) -> np.ndarray:
+    """:func:`directed_keys` of every side of the mesh (light-independent: cached with the mesh)."""
+    keys = _SIDE_KEYS.get(mesh)
+    if keys is None:
+        keys = directed_keys(mesh.side_edge, mesh.side_from, mesh.side_to)  # shared: never written to
+        _SIDE_KEYS[mesh] = keys
+    return keys
+
+
+@njit(cache=True)
+def _keys_to_directed(edges, keys):  # pragma: no cover - compiled
+    ids = np.empty(keys.size, dtype=np.int64)
+    pairs = np.empty((keys.size, 2), dtype=edges.dtype)
+    for i in range(keys.size):
+        e = keys[i] >> 1
+        ids[i] = e
+        flip = keys[i] & 1
+        pairs[i, 0] = edges[e, flip]
+        pairs[i, 1] = edges[e, 1 - flip]
     return ids, pairs
+
+
+def keys_to_directed(edges: np.ndarray, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edge ids and (k, 2) directed vertex pairs of directed keys (key ``2 e + 1``: edge ``e`` reversed)."""
+    return _keys_to_directed(np.ascontiguousarray(edges), np.ascontiguousarray(keys, dtype=np.int64))
 
 
 def first_orientation(ids: np.ndarray, pairs: np.ndarray, unique_ids: np.ndarray) -> np.ndarray:
@@ -235,6 +257,7 @@ __all__ = [
     "replay",
     "plain_array_s",
     "directed_keys",
+    "side_keys",
     "keys_to_directed",
     "first_orientation",
 ]

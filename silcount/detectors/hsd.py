@@ -44,7 +44,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
-from silcount.detectors.edge_array import CountedEdgeArray, directed_keys, keys_to_directed, plain_array_s, replay
+from silcount.detectors.edge_array import CountedEdgeArray, keys_to_directed, plain_array_s, replay, side_keys
 from silcount.detectors.result import Silhouette
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
 from silcount.mesh.coplanar import Merge, merge
@@ -92,7 +92,7 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
 
 def _fast(mesh: Mesh, light: Light, mg: Merge):
     poly_facing, ties = facing_flags(mesh, light, mg.rep)
-    keys = directed_keys(mesh.side_edge[mg.poly_sides], mesh.side_from[mg.poly_sides], mesh.side_to[mg.poly_sides])
+    keys = side_keys(mesh)[mg.poly_sides]
     r = replay(mg.poly_start, keys, poly_facing, 2 * mesh.n_edges)
     ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
     P = mg.n_polygons

@@ -70,11 +70,11 @@ from silcount.detectors.base import (
 )
 from silcount.detectors.edge_array import (
     CountedEdgeArray,
-    directed_keys,
     first_orientation,
     keys_to_directed,
     plain_array_s,
     replay,
+    side_keys,
 )
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -164,7 +164,7 @@ def edges_in(S: CountedEdgeArray, mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
 def _fast(mesh: Mesh, light: Light, variant: str):
     is_facing, ties = facing_flags(mesh, light)
     E, F = mesh.n_edges, mesh.n_faces
-    keys = directed_keys(mesh.side_edge, mesh.side_from, mesh.side_to)
+    keys = side_keys(mesh)
     initial = 2 * np.arange(E, dtype=np.int64) if variant == "literal" else None
     r = replay(mesh.face_start, keys, is_facing, 2 * E, initial)
     ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
