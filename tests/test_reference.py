@@ -198,3 +198,30 @@ def test_silhouettes_spread_over_several_parallel_chunks_match_numpy():
             assert np.array_equal(res.edge_ids, expected), light
         # the kernels' own output, before make_silhouette sorts and de-duplicates: ascending, no repeats
         assert np.array_equal(silhouette_edge_ids(m, light), expected) and np.array_equal(raw_ids, expected)
+
+
+def test_shared_facing_flags_reuse_only_the_identical_light():
+    # The counted engines share the last light's flags per mesh; a light one ulp away, the same coordinates
+    # as the other kind of light, or -0.0 for 0.0 must each be computed afresh and equal facing_flags.
+    from silcount.detectors.adjacency import facing_flags, shared_facing_flags
+
+    m = silcount.builtin_mesh("icosphere2")
+    z = float(m.vertices[:, 2].max())
+    base = (0.0, 0.3, z)
+    lights = [
+        silcount.DirectionalLight(base),
+        silcount.PointLight(base),
+        silcount.DirectionalLight((0.3, 0.0, -1.0)),
+        silcount.DirectionalLight((0.0, 0.3, np.nextafter(z, np.inf))),
+        silcount.DirectionalLight((-0.0, 0.3, z)),
+        silcount.DirectionalLight(base),
+    ]
+    results = []
+    for light in lights:
+        flags, ties = shared_facing_flags(m, light)
+        want, want_ties = facing_flags(m, light)
+        assert np.array_equal(flags, want) and ties == want_ties
+        results.append(flags)
+    assert not np.array_equal(results[0], results[1])  # a point and a directional light differ here
+    assert not np.array_equal(results[0], results[2])  # another direction: other flags
+    assert shared_facing_flags(m, lights[-1])[0] is results[-1]  # the same light again: the kept result

@@ -226,6 +226,26 @@ def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> t
     return flags, int(ties)
 
 
+_LAST_FACING: "weakref.WeakKeyDictionary[Mesh, tuple[bytes, np.ndarray, int]]" = weakref.WeakKeyDictionary()
+
+
+def shared_facing_flags(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
+    """:func:`facing_flags` of every face, the last light's result kept with the mesh.
+
+    The counted ``fast`` engines call this. Detectors run one after another under one light, as in a
+    corpus sweep, so they evaluate each face once, not once each. The key is the light's kind and the
+    bytes of its coordinates, so only the identical light reuses a result. The flags are shared and
+    never written to. The plain loops, which are timed, call :func:`facing_flags` and pay for their own.
+    """
+    key = bytes([isinstance(light, DirectionalLight)]) + np.asarray(light.vector, dtype=np.float64).tobytes()
+    got = _LAST_FACING.get(mesh)
+    if got is None or got[0] != key:
+        flags, ties = facing_flags(mesh, light)
+        got = (key, flags, ties)
+        _LAST_FACING[mesh] = got
+    return got[1], got[2]
+
+
 def edge_ids_of(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
     """Ids of the edges with exactly one light-facing incident face, ascending: the reference rule."""
     _, _, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)

@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.adjacency import edge_ids_of, facing_flags, shared_facing_flags
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
 from silcount.detectors.edge_array import CountedEdgeArray, keys_to_directed, plain_array_s, replay, side_keys
 from silcount.detectors.result import Silhouette
@@ -111,7 +111,7 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     """HSD's silhouette: TA over the merged polygons; the merge's cost is in ``notes['merge']``."""
     mg = merge(mesh, CRITERION[variant])
     run = (_naive if engine == "naive" else _fast)(mesh, light, mg)
-    inside = int(np.count_nonzero(mg.interior[silhouette_edge_ids(mesh, light)]))
+    inside = int(np.count_nonzero(mg.interior[edge_ids_of(mesh, shared_facing_flags(mesh, light)[0])]))
     run.notes.update({
         "merge": mg.summary(),
         "representative": "lowest-index face of each polygon",

@@ -26,7 +26,13 @@ from functools import partial
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import edge_ids_of, facing_flags, facing_of_bits, many_edge_ids, silhouette_edge_ids
+from silcount.detectors.adjacency import (
+    edge_ids_of,
+    facing_of_bits,
+    many_edge_ids,
+    shared_facing_flags,
+    silhouette_edge_ids,
+)
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
@@ -90,7 +96,7 @@ def fast_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict, dict]:
 
 
 def _fast(mesh: Mesh, light: Light) -> EngineRun:
-    is_facing, ties = facing_flags(mesh, light)
+    is_facing, ties = shared_facing_flags(mesh, light)
     ids = edge_ids_of(mesh, is_facing)
     steps, true = fast_tally(mesh, light, int(ids.size))
     return EngineRun(ids, steps, true, ties, is_facing)

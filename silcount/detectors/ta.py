@@ -57,7 +57,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.adjacency import facing_flags, shared_facing_flags
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
@@ -162,7 +162,7 @@ def edges_in(S: CountedEdgeArray, mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):
-    is_facing, ties = facing_flags(mesh, light)
+    is_facing, ties = shared_facing_flags(mesh, light)
     E, F = mesh.n_edges, mesh.n_faces
     keys = side_keys(mesh)
     initial = 2 * np.arange(E, dtype=np.int64) if variant == "literal" else None

@@ -63,7 +63,7 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.adjacency import shared_facing_flags
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
@@ -132,7 +132,7 @@ def _naive(mesh: Mesh, light: Light, variant: str):
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):
-    is_facing, ties = facing_flags(mesh, light)
+    is_facing, ties = shared_facing_flags(mesh, light)
     E, F = mesh.n_edges, mesh.n_faces
     n_vis = int(np.count_nonzero(is_facing))
     facing_sides = np.flatnonzero(is_facing[mesh.side_face])
