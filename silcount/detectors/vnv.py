@@ -131,20 +131,35 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     return EngineRun(np.asarray(out, dtype=np.int64), steps, dict(counter), ties, flags)
 
 
+@njit(cache=True)
+def _facing_sides(face_start, side_edge, is_facing, E):  # pragma: no cover - compiled
+    """Over the light-facing faces' sides: each edge's E_counter, their number, the faces' sides, and
+    the sides behind each one in its face (which ``contains`` does not examine when it stops there)."""
+    counters = np.zeros(E, dtype=np.int64)
+    increments = 0
+    sides = 0
+    behind = 0
+    for f in range(is_facing.size):
+        if is_facing[f]:
+            lo, hi = face_start[f], face_start[f + 1]
+            sides += hi - lo
+            for s in range(lo, hi):
+                counters[side_edge[s]] += 1
+                increments += 1
+                behind += hi - s - 1
+    return counters, increments, sides, behind
+
+
 def _fast(mesh: Mesh, light: Light, variant: str):
     is_facing, ties = shared_facing_flags(mesh, light)
     E, F = mesh.n_edges, mesh.n_faces
     n_vis = int(np.count_nonzero(is_facing))
-    facing_sides = np.flatnonzero(is_facing[mesh.side_face])
     if variant == "intended":
         # E_counter of each edge: the light-facing faces whose sides list it (a face lists an edge once)
-        counters = np.bincount(mesh.side_edge[facing_sides], minlength=E)
+        counters, increments, sides, behind = _facing_sides(mesh.face_start, mesh.side_edge, is_facing, E)
         ids = np.flatnonzero(counters == 1)  # If e_counter = 1 then Add E to S
-        increments = int(counters.sum())
         # contains(F, E) examines every side of F when E is not among them, else stops at E's side
-        m_vis = mesh.face_sizes[is_facing].astype(np.int64)
-        position = facing_sides - mesh.face_start[mesh.side_face[facing_sides]]  # 0-based place in its face
-        examined = int(np.sum(E * m_vis) - np.sum(mesh.face_sizes[mesh.side_face[facing_sides]] - position - 1))
+        examined = int(E * sides - behind)
     else:
         # E_counter is never reset: after edge e (0-based) it holds (e + 1) * n_vis
         counters = n_vis * np.arange(1, E + 1, dtype=np.int64)
