@@ -1,6 +1,7 @@
 """The Triangular Algorithm: hand-counted tallies, the paper's printed sum, naive == fast, agreement."""
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import any_meshes, closed_meshes, examples, lights_for, mesh_and_light
@@ -210,3 +211,33 @@ def test_replay_matches_a_plain_list(n_keys, data):
                 S.append(k)
     r = replay(start, keys, facing, n_keys + (n_keys % 2), initial)
     assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_replay_matches_a_plain_list_over_many_words(seed):
+    # The replay counts deleted slots by one bit each, 64 to a word, and a Fenwick tree over the words:
+    # sequences of a few thousand slots reach deletions in hundreds of words and across word boundaries.
+    from silcount.detectors.edge_array import replay
+
+    rng = np.random.default_rng(seed)
+    n_keys = 2 * int(rng.integers(50, 400))
+    sizes = rng.integers(0, 6, int(rng.integers(500, 1500)))
+    start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    keys = rng.integers(0, n_keys, int(start[-1])).astype(np.int64)
+    facing = rng.random(sizes.size) < 0.7
+    initial = rng.integers(0, n_keys, int(rng.integers(0, 300))).astype(np.int64)
+    S, examined, shifted = list(initial), 0, 0
+    for p in np.flatnonzero(facing):
+        for k in keys[start[p] : start[p + 1]]:
+            rev = k ^ 1
+            if rev in S:
+                pos = S.index(rev)
+                examined += pos + 1
+                shifted += len(S) - pos - 1
+                del S[pos]
+            else:
+                examined += len(S)
+                S.append(k)
+    r = replay(start, keys, facing, n_keys, initial)
+    assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted
+    assert r.deleted > 200 and initial.size + r.added > 64 * 10  # deletions over ten words and more

@@ -92,17 +92,35 @@ def _enqueue(s, key, slot_key, alive, head, tail, nxt):  # pragma: no cover - co
     tail[key] = s
 
 
+_M1 = np.uint64(0x5555555555555555)
+_M2 = np.uint64(0x3333333333333333)
+_M4 = np.uint64(0x0F0F0F0F0F0F0F0F)
+_H01 = np.uint64(0x0101010101010101)
+
+
+@njit(cache=True, inline="always")
+def _popcount(x):  # pragma: no cover - compiled
+    """Set bits of a uint64 (the SWAR sum of bit pairs, nibbles and bytes)."""
+    x = x - ((x >> np.uint64(1)) & _M1)
+    x = (x & _M2) + ((x >> np.uint64(2)) & _M2)
+    x = (x + (x >> np.uint64(4))) & _M4
+    return np.int64((x * _H01) >> np.uint64(56))
+
+
 @njit(cache=True)
 def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover - compiled
-    """S's searches over slots in insertion order; a Fenwick tree counts the *deleted* slots, so a slot's place
-    in S is its slot number less the deletions before it, and an insertion (always the last slot) costs no update."""
+    """S's searches over slots in insertion order.  A slot's place in S is its slot number less the deleted
+    slots before it; those are counted by one bit per slot, 64 to a word, and a Fenwick tree over the words'
+    counts, so an insertion (always the next slot) touches neither."""
     n_init = initial.size
     n_sides = 0
     for p in range(poly_facing.size):
         if poly_facing[p]:
             n_sides += start[p + 1] - start[p]
     n_slots = n_init + n_sides
-    dead = np.zeros(n_slots + 1, dtype=np.int64)  # Fenwick tree over slots (1-based): deleted slots
+    n_words = (n_slots >> 6) + 1
+    dead_bits = np.zeros(n_words, dtype=np.uint64)
+    dead = np.zeros(n_words + 1, dtype=np.int64)  # Fenwick tree over words (1-based): deleted slots in each
     alive = np.zeros(n_slots, dtype=np.bool_)
     slot_key = np.empty(n_slots, dtype=np.int64)
     nxt = np.full(n_slots, -1, dtype=np.int64)  # next live slot with the same key
@@ -125,15 +143,18 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
             searched += 1
             s = head[rev]
             if s >= 0:
-                pos = s  # live slots before s: the slots before it less the deleted ones
-                i = s
-                while i > 0:
+                w = s >> 6
+                bit = np.uint64(1) << np.uint64(s & 63)
+                pos = s - _popcount(dead_bits[w] & (bit - np.uint64(1)))  # live slots before s
+                i = w
+                while i > 0:  # the deleted slots of words 0 .. w - 1
                     pos -= dead[i]
                     i -= i & -i
                 examined += pos + 1
                 shifted += size - pos - 1
-                i = s + 1
-                while i <= n_slots:
+                dead_bits[w] |= bit
+                i = w + 1
+                while i <= n_words:
                     dead[i] += 1
                     i += i & -i
                 alive[s] = False
