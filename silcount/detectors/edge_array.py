@@ -16,8 +16,9 @@ array"; a found edge is deleted, a missing one is appended.  Both TA and HSD
 * :func:`replay` computes the same outcome and the same counts without the
   quadratic scan (the ``fast`` engines): S is a sequence of insertion slots;
   the position of a live element is the number of elements inserted before
-  it less those of them already deleted, the deletions kept in a Fenwick
-  tree (an append takes the next slot and touches no tree); the live slots of each directed edge form
+  it less those of them already deleted, the deletions kept as one bit per
+  slot with a Fenwick tree over the counts of 64-slot words (an append takes
+  the next slot and touches neither); the live slots of each directed edge form
   a FIFO queue (a search finds the front-most match, i.e. the oldest live
   copy; appends go to the back), so duplicates, non-manifold edges and
   inconsistent winding are replayed exactly as the array would behave.
