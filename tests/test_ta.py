@@ -182,6 +182,23 @@ def test_inconsistent_winding_leaves_a_duplicate():
     assert res.agreement["extra_edges"] == 1 and res.agreement["missed_edges"] == 0
 
 
+def plain_list_replay(start, keys, facing, initial):
+    """TA's S as a Python list searched from the front: final S, elements examined, elements shifted."""
+    S, examined, shifted = list(initial), 0, 0
+    for p in np.flatnonzero(facing):
+        for k in keys[start[p] : start[p + 1]]:
+            rev = k ^ 1
+            if rev in S:
+                pos = S.index(rev)
+                examined += pos + 1
+                shifted += len(S) - pos - 1
+                del S[pos]
+            else:
+                examined += len(S)
+                S.append(k)
+    return S, examined, shifted
+
+
 @settings(max_examples=examples(200), deadline=None)
 @given(n_keys=st.integers(2, 12), data=st.data())
 def test_replay_matches_a_plain_list(n_keys, data):
@@ -197,18 +214,7 @@ def test_replay_matches_a_plain_list(n_keys, data):
     )
     facing = np.array(data.draw(st.lists(st.booleans(), min_size=len(sizes), max_size=len(sizes))))
     initial = np.array(data.draw(st.lists(st.integers(0, n_keys - 1), max_size=20)), dtype=np.int64)
-    S, examined, shifted = list(initial), 0, 0
-    for p in np.flatnonzero(facing):
-        for k in keys[start[p] : start[p + 1]]:
-            rev = k ^ 1
-            if rev in S:
-                pos = S.index(rev)
-                examined += pos + 1
-                shifted += len(S) - pos - 1
-                del S[pos]
-            else:
-                examined += len(S)
-                S.append(k)
+    S, examined, shifted = plain_list_replay(start, keys, facing, initial)
     r = replay(start, keys, facing, n_keys + (n_keys % 2), initial)
     assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted
 
@@ -226,18 +232,7 @@ def test_replay_matches_a_plain_list_over_many_words(seed):
     keys = rng.integers(0, n_keys, int(start[-1])).astype(np.int64)
     facing = rng.random(sizes.size) < 0.7
     initial = rng.integers(0, n_keys, int(rng.integers(0, 300))).astype(np.int64)
-    S, examined, shifted = list(initial), 0, 0
-    for p in np.flatnonzero(facing):
-        for k in keys[start[p] : start[p + 1]]:
-            rev = k ^ 1
-            if rev in S:
-                pos = S.index(rev)
-                examined += pos + 1
-                shifted += len(S) - pos - 1
-                del S[pos]
-            else:
-                examined += len(S)
-                S.append(k)
+    S, examined, shifted = plain_list_replay(start, keys, facing, initial)
     r = replay(start, keys, facing, n_keys, initial)
     assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted
     assert r.deleted > 200 and initial.size + r.added > 64 * 10  # deletions over ten words and more
