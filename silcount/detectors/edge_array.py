@@ -223,11 +223,8 @@ def plain_array_s(
 ) -> np.ndarray:
     """Run S as printed, compiled and uncounted: each side of a light-facing polygon searches S linearly from
     the front and deletes its reverse (shifting the tail) or appends itself; ascending ids of the edges left."""
-    V = np.int64(mesh.n_vertices)
-    keys = _plain_array_s(start, side_from, side_to, facing, V)
-    a, b = keys // V, keys % V
-    table = mesh.edges[:, 0] * V + mesh.edges[:, 1]
-    return np.unique(np.searchsorted(table, np.minimum(a, b) * V + np.maximum(a, b)))
+    keys = _plain_array_s(start, side_from, side_to, facing, np.int64(mesh.n_vertices))
+    return np.unique(packed_edges(mesh, keys)[0])
 
 
 def directed_keys(side_edge: np.ndarray, side_from: np.ndarray, side_to: np.ndarray) -> np.ndarray:
@@ -235,16 +232,34 @@ def directed_keys(side_edge: np.ndarray, side_from: np.ndarray, side_to: np.ndar
     return 2 * np.asarray(side_edge, dtype=np.int64) + (np.asarray(side_from) > np.asarray(side_to))
 
 
-_SIDE_KEYS: "weakref.WeakKeyDictionary[Mesh, np.ndarray]" = weakref.WeakKeyDictionary()
+_PER_MESH: "weakref.WeakKeyDictionary[Mesh, dict[str, np.ndarray]]" = weakref.WeakKeyDictionary()
+
+
+def _per_mesh(mesh: Mesh) -> dict[str, np.ndarray]:
+    """Light-independent keys of the mesh (cached with it, shared: never written to): every side's
+    :func:`directed_keys` and every edge's packed key ``lower * V + higher``, ascending as the edges are."""
+    got = _PER_MESH.get(mesh)
+    if got is None:
+        V = np.int64(mesh.n_vertices)
+        got = {
+            "side_keys": directed_keys(mesh.side_edge, mesh.side_from, mesh.side_to),
+            "edge_keys": mesh.edges[:, 0] * V + mesh.edges[:, 1],
+        }
+        _PER_MESH[mesh] = got
+    return got
 
 
 def side_keys(mesh: Mesh) -> np.ndarray:
     """:func:`directed_keys` of every side of the mesh (light-independent: cached with the mesh)."""
-    keys = _SIDE_KEYS.get(mesh)
-    if keys is None:
-        keys = directed_keys(mesh.side_edge, mesh.side_from, mesh.side_to)  # shared: never written to
-        _SIDE_KEYS[mesh] = keys
-    return keys
+    return _per_mesh(mesh)["side_keys"]
+
+
+def packed_edges(mesh: Mesh, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edge ids and (k, 2) directed (from, to) pairs of packed keys ``from * V + to``, in their order."""
+    V = mesh.n_vertices
+    pairs = np.stack([keys // V, keys % V], axis=1)
+    lo, hi = pairs.min(axis=1), pairs.max(axis=1)
+    return np.searchsorted(_per_mesh(mesh)["edge_keys"], lo * V + hi), pairs
 
 
 @njit(cache=True)
@@ -280,6 +295,7 @@ __all__ = [
     "plain_array_s",
     "directed_keys",
     "side_keys",
+    "packed_edges",
     "keys_to_directed",
     "first_orientation",
 ]

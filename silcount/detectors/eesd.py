@@ -111,7 +111,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags, shared_facing_flags
+from silcount.detectors.adjacency import shared_facing_flags
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, unique_ids
 from silcount.detectors.eesd_counted import (
     ADD_COST,
@@ -273,7 +273,7 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
         ids, steps, true, notes = _fast_literal(mesh, light)
     else:
         ids, steps, true, notes = _fast_intended(mesh, light)
-    flags, ties = (facing_flags if engine == "naive" else shared_facing_flags)(mesh, light)
+    flags, ties = shared_facing_flags(mesh, light)
     if variant == "literal":
         notes["S_length"] = steps["add"]
         notes["duplicates_in_S"] = steps["add"] - int(unique_ids(ids).size)

@@ -72,6 +72,7 @@ from silcount.detectors.edge_array import (
     CountedEdgeArray,
     first_orientation,
     keys_to_directed,
+    packed_edges,
     plain_array_s,
     replay,
     side_keys,
@@ -154,11 +155,7 @@ def toggle(S: CountedEdgeArray, vp, vq, V: int, steps: dict[str, int]) -> None:
 
 def edges_in(S: CountedEdgeArray, mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     """The edge ids and directed (from, to) pairs of what S holds, in S's order."""
-    V = mesh.n_vertices
-    keys = S.keys()
-    pairs = np.stack([keys // V, keys % V], axis=1)
-    lo, hi = pairs.min(axis=1), pairs.max(axis=1)
-    return np.searchsorted(mesh.edges[:, 0] * V + mesh.edges[:, 1], lo * V + hi), pairs
+    return packed_edges(mesh, S.keys())
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):

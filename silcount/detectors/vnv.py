@@ -133,10 +133,10 @@ def _naive(mesh: Mesh, light: Light, variant: str):
 
 @njit(cache=True)
 def _facing_sides(face_start, side_edge, is_facing, E):  # pragma: no cover - compiled
-    """Over the light-facing faces' sides: each edge's E_counter, their number, the faces' sides, and
-    the sides behind each one in its face (which ``contains`` does not examine when it stops there)."""
+    """Over the light-facing faces' sides: each edge's E_counter, the number of those sides (one counter
+    increment each), and the sides behind each one in its face (which ``contains`` does not examine
+    when it stops there)."""
     counters = np.zeros(E, dtype=np.int64)
-    increments = 0
     sides = 0
     behind = 0
     for f in range(is_facing.size):
@@ -145,9 +145,8 @@ def _facing_sides(face_start, side_edge, is_facing, E):  # pragma: no cover - co
             sides += hi - lo
             for s in range(lo, hi):
                 counters[side_edge[s]] += 1
-                increments += 1
                 behind += hi - s - 1
-    return counters, increments, sides, behind
+    return counters, sides, behind
 
 
 def _fast(mesh: Mesh, light: Light, variant: str):
@@ -156,7 +155,8 @@ def _fast(mesh: Mesh, light: Light, variant: str):
     n_vis = int(np.count_nonzero(is_facing))
     if variant == "intended":
         # E_counter of each edge: the light-facing faces whose sides list it (a face lists an edge once)
-        counters, increments, sides, behind = _facing_sides(mesh.face_start, mesh.side_edge, is_facing, E)
+        counters, sides, behind = _facing_sides(mesh.face_start, mesh.side_edge, is_facing, E)
+        increments = int(sides)  # one E_counter increment per light-facing side
         ids = np.flatnonzero(counters == 1)  # If e_counter = 1 then Add E to S
         # contains(F, E) examines every side of F when E is not among them, else stops at E's side
         examined = int(E * sides - behind)
