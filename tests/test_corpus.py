@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from silcount.detectors import DETECTORS, LITERATURE
 from silcount.detectors.adjacency import silhouette_edge_ids
@@ -24,7 +26,8 @@ from silcount.study import corpus, find_files
 from silcount.study import schedule as schedule_mod
 from silcount.study.fits import power_fit
 from silcount.study.subdivide import faces_after, subdivide
-from silcount.study.work import Settings, mesh_lights, shape_kind
+from silcount.study.tables import rows_frame
+from silcount.study.work import Settings, mesh_lights, row_columns, shape_kind
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "schemas" / "corpus.schema.json"
@@ -380,3 +383,35 @@ def test_a_timed_sweep_times_the_hierarchies_per_light_kind_and_the_cache_blanks
     assert untimed.document == corpus([one], cache=False, timing=False, **args).document
     blank = untimed.document["meshes"][0]["time_by_light_kind"]
     assert set(blank) == {"directional", "point"} and all(v is None for k in blank for v in blank[k].values())
+
+
+number = st.one_of(st.integers(-9, 9), st.floats(-1, 1))
+unit_rows = st.lists(  # as run_record's rows: some keys in every row, maybe None; the steps per detector, never None
+    st.fixed_dictionaries(
+        {"light": st.integers(0, 3), "edges_visited": st.one_of(st.none(), number)},
+        optional={key: number for key in ("steps_b", "steps_a", "steps_c")},
+    ),
+    max_size=6,
+)
+
+
+@settings(max_examples=80, deadline=None)
+@given(units=st.lists(unit_rows, min_size=1, max_size=4))
+def test_columnar_rows_give_the_frame_of_one_dict_per_row(units):
+    """A unit's rows travel as columns (``row_columns``); the frame equals pandas' own one built from the rows."""
+    import pandas as pd
+
+    labels = [f"m{i}.off" for i in range(len(units))]
+    results = [
+        {"mesh": {"faces": 4 * i}, "rows": row_columns(rows), "level": 0, "sha256": f"{i:064x}"}
+        for i, rows in enumerate(units)
+    ]
+    records = [
+        {"file": label, "level": 0, "sha256": res["sha256"], "faces": res["mesh"]["faces"], **dict(sorted(row.items()))}
+        for label, res, rows in zip(labels, results, units)
+        for row in rows
+    ]
+    expected = pd.DataFrame.from_records(records)
+    if not expected.empty:
+        expected = expected.sort_values(["file", "level", "light"], kind="stable").reset_index(drop=True)
+    pd.testing.assert_frame_equal(rows_frame(labels, results), expected, check_exact=True)

@@ -26,7 +26,9 @@ Scheduling (docs/corpus.md, "Scheduling"):
   workers batches of 6 ready tasks by default (its ``chunksize``): the six
   largest units then ran one after another on one worker while the other
   took the next six, and the last batch left a worker idle for a whole
-  batch; units are therefore handed out one at a time (``chunksize=1``).
+  batch; units are therefore handed out one at a time (``chunksize=1``), on
+  silcount's own pool, shut down without waiting so that the workers' exit
+  overlaps the client's tables.
 * **one level of parallelism.**  Each unit runs numba's parallel kernels on
   ``cores // workers`` threads locally (all cores for one worker, one thread
   each for two workers on two cores) and on one thread on a cluster, whose
@@ -45,7 +47,7 @@ from dataclasses import dataclass
 from silcount.errors import BadArgument
 from silcount.progress import progress
 from silcount.study.cache import Cache, cache_key
-from silcount.study.work import Settings, audit_task
+from silcount.study.work import Settings, audit_task, row_columns
 
 LOCAL = ("threads", "processes")
 CONNECT_TIMEOUT = "20s"
@@ -146,8 +148,20 @@ def _local(
         )
         for name, i in names.items()
     ]
-    with Collect():
-        dask.compute(*tasks, scheduler=scheduler, num_workers=workers, chunksize=1)  # one unit per hand-out
+    if scheduler == "threads":
+        with Collect():
+            dask.compute(*tasks, scheduler=scheduler, num_workers=workers)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+
+    from dask.multiprocessing import get_context, initialize_worker_process
+
+    pool = ProcessPoolExecutor(workers, mp_context=get_context(), initializer=initialize_worker_process)
+    try:
+        with Collect():
+            dask.compute(*tasks, scheduler=scheduler, pool=pool, chunksize=1)  # one unit per hand-out
+    finally:
+        pool.shutdown(wait=False)
 
 
 def _distributed(items: list[Item], todo: list[int], settings: Settings, address: str, finish: Callable) -> None:
@@ -195,4 +209,5 @@ def _distributed(items: list[Item], todo: list[int], settings: Settings, address
 
 def _failed(item: Item, error: str) -> dict:
     """The result of a unit that did not run."""
-    return {"mesh": {}, "rows": [], "error": " ".join(error.split()), "sha256": item.sha256, "level": item.level}
+    error = " ".join(error.split())
+    return {"mesh": {}, "rows": row_columns([]), "error": error, "sha256": item.sha256, "level": item.level}

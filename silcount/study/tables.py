@@ -69,17 +69,24 @@ VISITED = ("edges_visited", "edges_visited_fraction")
 
 
 def rows_frame(labels: list[str], results: list[dict]) -> pd.DataFrame:
-    """The per-(mesh, light, run) table; meshes that failed have no rows here."""
+    """The per-(mesh, light, run) table from the units' columnar rows; meshes that failed have no rows here.
+
+    Columns: ``file, level, sha256, faces``, then the units' columns in order of first appearance (a cached
+    result and a fresh one list them alike); a unit without a column holds ``None`` there.
+    """
     import pandas as pd
 
-    records = []
+    parts = []
     for label, res in zip(labels, results):
-        head = {"file": label, "level": res["level"], "sha256": res["sha256"], "faces": res["mesh"].get("faces")}
-        # row keys in one canonical order: a cached result (JSON, sorted keys) and a fresh one give one table
-        records += [{**head, **dict(sorted(row.items()))} for row in res["rows"]]
-    frame = pd.DataFrame.from_records(records)
-    if frame.empty:
-        return frame
+        given = dict(zip(res["rows"]["columns"], res["rows"]["values"]))
+        n = len(next(iter(given.values()), []))
+        if n:
+            head = {"file": label, "level": res["level"], "sha256": res["sha256"], "faces": res["mesh"].get("faces")}
+            parts.append((n, {**{k: [v] * n for k, v in head.items()}, **given}))
+    if not parts:
+        return pd.DataFrame.from_records([])  # no rows, no columns (an object index, as for an empty record list)
+    names = list(dict.fromkeys(k for _, part in parts for k in part))
+    frame = pd.DataFrame({k: [v for n, part in parts for v in part.get(k, [None] * n)] for k in names})
     return frame.sort_values(["file", "level", "light"], kind="stable").reset_index(drop=True)
 
 

@@ -304,11 +304,26 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
         record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
     record["time_by_light_kind"] = by_kind
     record["time_per_light_s"] = next(iter(by_kind.values()), {d: None for d in settings.detectors})
-    return {"mesh": record, "rows": rows}
+    return {"mesh": record, "rows": row_columns(rows)}
+
+
+def row_columns(rows: list[dict]) -> dict:
+    """``rows`` as ``{"columns": [name, ...], "values": [[value per row], ...]}``.
+
+    A unit's result crosses a process boundary (pickle) and the cache (JSON): one list per column costs a
+    fraction of one dict per row to move and to read back into a frame.  ``columns`` is every row's keys,
+    each row's sorted, in order of first appearance (a list, so JSON's sorted keys cannot reorder it); a row
+    without a column holds ``None`` there, read as missing.  Only the ``steps_`` columns are missing from some
+    rows (each detector has its own steps), and they are never ``None`` themselves, so nothing is lost.
+    """
+    names = list(dict.fromkeys(k for row in rows for k in sorted(row)))
+    return {"columns": names, "values": [[row.get(k) for row in rows] for k in names]}
 
 
 def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
     """Audit one file's bytes at one subdivision level; ``{"mesh", "rows", "error"}``, never raising for bad input.
+
+    ``rows`` is columnar (:func:`row_columns`).
 
     ``label`` is the file's name in the sweep (its suffix picks the loader; it
     replaces the temporary path in error messages).
@@ -327,7 +342,7 @@ def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
     except Exception as exc:  # recorded as this mesh's error row, never dropped: the sweep goes on
         text = " ".join(str(exc).split()) or type(exc).__name__
         error = text if isinstance(exc, SilcountError) else f"{type(exc).__name__}: {text}"
-        result = {"mesh": {}, "rows": [], "error": error}
+        result = {"mesh": {}, "rows": row_columns([]), "error": error}
     result["sha256"] = sha
     result["level"] = level
     return result
