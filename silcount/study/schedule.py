@@ -152,16 +152,22 @@ def _local(
         with Collect():
             dask.compute(*tasks, scheduler=scheduler, num_workers=workers)
         return
-    from concurrent.futures import ProcessPoolExecutor
-
-    from dask.multiprocessing import get_context, initialize_worker_process
-
-    pool = ProcessPoolExecutor(workers, mp_context=get_context(), initializer=initialize_worker_process)
+    pool = process_pool(workers)
     try:
         with Collect():
             dask.compute(*tasks, scheduler=scheduler, pool=pool, chunksize=1)  # one unit per hand-out
     finally:
         pool.shutdown(wait=False)
+
+
+def process_pool(workers: int):
+    """The ``processes`` scheduler's pool, as Dask would make it (its context and worker initializer);
+    the caller shuts it down."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    from dask.multiprocessing import get_context, initialize_worker_process
+
+    return ProcessPoolExecutor(workers, mp_context=get_context(), initializer=initialize_worker_process)
 
 
 def _distributed(items: list[Item], todo: list[int], settings: Settings, address: str, finish: Callable) -> None:
