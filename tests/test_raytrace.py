@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from silcount.mesh.raytrace import RayTracer
+from silcount.mesh.raytrace import RayTracer, hits_any_of
 
 
 def brute_force(tris, origins, directions, t_min, t_max):
@@ -110,8 +110,8 @@ def test_per_ray_ranges_and_hits_triangle():
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_hits_any_listed_is_any_of_its_triangles_tests(seed):
-    # Each ray lists 0-4 random triangles; the answer is the OR of hits_triangle over the list,
+def test_hits_any_of_is_any_of_its_triangles_tests(seed):
+    # Each ray lists 0-4 random triangles, laid out in ray order; the answer is the OR of hits_triangle,
     # for per-ray rows and for one broadcast origin or direction (a point or a directional light).
     rng = np.random.default_rng(seed)
     tris = rng.uniform(-1, 1, size=(60, 1, 3)) + rng.normal(scale=0.4, size=(60, 3, 3))
@@ -129,8 +129,8 @@ def test_hits_any_listed_is_any_of_its_triangles_tests(seed):
         each = rt.hits_triangle(np.asarray(origins)[ray], np.asarray(directions)[ray], which, -np.inf, np.inf)
         expected = np.zeros(R, dtype=bool)
         expected[ray[each]] = True
-        got = rt.hits_any_listed(origins, directions, start, which, -np.inf, np.inf)
+        got = hits_any_of(origins, directions, start, rt.triangles[which], -np.inf, np.inf)
         assert np.array_equal(got, expected)
         assert 0 < expected.sum() < R - (counts == 0).sum()  # hits and misses among the listed
     with pytest.raises(ValueError, match="300 rays but 7 origins"):
-        rt.hits_any_listed(np.zeros((7, 3)), np.zeros((R, 3)), start, which)
+        hits_any_of(np.zeros((7, 3)), np.zeros((R, 3)), start, rt.triangles[which])

@@ -93,7 +93,8 @@ Engines
 same points with numpy in the same order of operations and finds the edges
 with :class:`silcount.mesh.raytrace.RayTracer`, casting only the rays that matter:
 a ray that meets one of its own edge's faces (the same Moller-Trumbore test,
-bit for bit, via ``hits_triangle``) is blocked in the full loop too, so only
+bit for bit, via :func:`silcount.mesh.raytrace.hits_any_of` over a copy of each
+edge's own triangles laid out in edge order) is blocked in the full loop too, so only
 the rays that miss their own faces are cast through the grid: on a closed
 mesh these are exactly the edges whose faces lie on one side as seen from
 the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
@@ -130,7 +131,7 @@ from silcount.detectors.eesd_counted import (
 from silcount.detectors.eesd_rays import (
     face_planes,
     outward_points_and_rays,
-    own_pairs,
+    own_triangles,
     plain_edge_ids,
     ray_data,
     tracer,
@@ -139,6 +140,7 @@ from silcount.detectors.onplane import zeros_per_point
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
+from silcount.mesh.raytrace import hits_any_of
 
 NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
 LABEL = "EESD"
@@ -217,12 +219,11 @@ def _fast_intended(mesh: Mesh, light: Light):
     p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
     # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
     #    in the full face loop, so those edges are settled without casting.
-    pair_start, pair_tri = own_pairs(mesh)
-    rays = tracer(mesh)
-    blocked = rays.hits_any_listed(origins, directions, pair_start, pair_tri, t_min, t_max)
+    pair_start, pair_triangles = own_triangles(mesh)
+    blocked = hits_any_of(origins, directions, pair_start, pair_triangles, t_min, t_max)
     # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.
     cand = np.flatnonzero(~blocked)
-    blocked[cand] = rays.any_hit(origins[cand], directions[cand], t_min, t_max)
+    blocked[cand] = tracer(mesh).any_hit(origins[cand], directions[cand], t_min, t_max)
     ids = np.flatnonzero(~blocked)
     T = data["tri_face"].size
     steps = {
