@@ -157,7 +157,7 @@ def _local(
         with Collect():
             dask.compute(*tasks, scheduler=scheduler, pool=pool, chunksize=1)  # one unit per hand-out
     finally:
-        pool.shutdown(wait=False)
+        pool.shutdown(wait=False, cancel_futures=True)  # after an error, queued units do not run
 
 
 def process_pool(workers: int):
