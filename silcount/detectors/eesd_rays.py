@@ -102,9 +102,10 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
 
 def own_triangles(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Every edge's own fan triangles (those of its faces), edges ascending, as a CSR: each edge's start,
-    and the triangles themselves (P, 3, 3), copied out of the tracer's list in this order (cached with the
-    mesh).  The copy costs 72 bytes a pair, about three times the tracer's triangles, and is what makes
-    the own-face pass stream instead of gathering (:func:`silcount.mesh.raytrace.hits_any_of`)."""
+    and the triangles themselves (P, 3, 3), the tracer's fan triangles copied in this order (cached with
+    the mesh; the grid is not built for them).  The copy costs 72 bytes a pair, about three times the
+    tracer's triangles, and is what makes the own-face pass stream instead of gathering
+    (:func:`silcount.mesh.raytrace.hits_any_of`)."""
     data = ray_data(mesh)
     if "own_triangles" not in data:
         start, order = mesh.edge_sides
@@ -115,7 +116,8 @@ def own_triangles(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
         )
         pair_start = np.zeros(mesh.n_edges + 1, dtype=np.int64)  # every edge has a side
         np.cumsum(np.add.reduceat(n_tri, start[:-1]), out=pair_start[1:])
-        data["own_triangles"] = (pair_start, np.ascontiguousarray(tracer(mesh).triangles[pair_tri]))
+        triangles = np.asarray(mesh.vertices[data["tri_idx"][pair_tri]], dtype=np.float64)  # the tracer's values
+        data["own_triangles"] = (pair_start, triangles)
     return data["own_triangles"]
 
 

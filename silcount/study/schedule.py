@@ -148,16 +148,13 @@ def _local(
         )
         for name, i in names.items()
     ]
-    if scheduler == "threads":
-        with Collect():
-            dask.compute(*tasks, scheduler=scheduler, num_workers=workers)
-        return
-    pool = process_pool(workers)
+    pool = process_pool(workers) if scheduler == "processes" else None  # threads: Dask's own
     try:
         with Collect():
-            dask.compute(*tasks, scheduler=scheduler, pool=pool, chunksize=1)  # one unit per hand-out
+            dask.compute(*tasks, scheduler=scheduler, num_workers=workers, pool=pool, chunksize=1)  # one at a time
     finally:
-        pool.shutdown(wait=False, cancel_futures=True)  # after an error, queued units do not run
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)  # after an error, queued units do not run
 
 
 def process_pool(workers: int):
