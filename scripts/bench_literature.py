@@ -36,7 +36,7 @@ import numpy as np
 from bench_detectors import best_time, floor_of, lights
 
 import silcount
-from silcount.detectors import adjacency, cones, gaussmap, hierarchy, hierarchy_query
+from silcount.detectors import adjacency, cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query
 
 REPEAT = 5  # best of, per light and query
 SWEEP_LEAF = (4, 8, 16, 32)
@@ -58,7 +58,7 @@ def build_best(mesh, scheme, leaf: int, fanout: int, repeat: int):
     for _ in range(repeat):
         tree = None
         t = time.perf_counter()
-        tree = hierarchy.build_fast(mesh, scheme, leaf, fanout)
+        tree = hierarchy_build.build_fast(mesh, scheme, leaf, fanout)
         best = min(best, time.perf_counter() - t)
     return tree, best
 
@@ -67,7 +67,7 @@ def build_peak(mesh, scheme, leaf: int, fanout: int) -> int:
     """Peak bytes traced by tracemalloc during one build, above its start (the returned tree included)."""
     gc.collect()
     tracemalloc.start()
-    tree = hierarchy.build_fast(mesh, scheme, leaf, fanout)
+    tree = hierarchy_build.build_fast(mesh, scheme, leaf, fanout)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     del tree

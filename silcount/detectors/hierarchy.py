@@ -7,21 +7,28 @@ Cone Hierarchies", I3D 2001, Sec. 3) all keep a tree over clusters of edges
 whose nodes carry bounds that prove "no silhouette edge below here" for a
 whole set of lights.  They differ in how the edges are clustered: by their
 arcs on the Gauss sphere (:mod:`.gaussmap`) or by position (:mod:`.cones`).
-This module is the rest: the tree, its bounds and its compiled build
-(the query is :mod:`.hierarchy_query`, the counted engine :mod:`.hierarchy_naive`).
+This module is the rest: the tree, its bounds and its counted build cost (the compiled build is
+:mod:`.hierarchy_build`, the query :mod:`.hierarchy_query` over the kernels of :mod:`.hierarchy_walk`,
+the counted engine :mod:`.hierarchy_naive`).
 
 The tree
 --------
 The edges are sorted by a key the caller gives (a Z-order code, see
 :class:`KeyScheme`), cut into leaves of ``leaf_size`` consecutive edges, and
 ``fanout`` consecutive nodes of one level make a node of the next, up to one
-root.  The nodes are stored in depth-first preorder, each with the range of
-edge positions below it and a skip to the node after its subtree, so that a
-query is one forward pass that jumps over what it prunes (:func:`shape`).
-Every node keeps two axis-aligned boxes over the faces of the edges below
-it: of their normals ``n = (p1 - p0) x (p2 - p0)`` and of their first
-vertices ``p0``, exactly the values :func:`~silcount.detectors.adjacency.facing_flags`
-uses, and whether a boundary edge (one face) is below it.  A leaf's edge is
+root.  The nodes are numbered in depth-first preorder, each with the range of
+edge positions below it and a skip to the node after its subtree, so that
+the counted query is one forward pass that jumps over what it prunes
+(:func:`shape`).  Every node keeps two axis-aligned boxes over the faces of
+the edges below it: of their normals ``n = (p1 - p0) x (p2 - p0)`` and of
+their first vertices ``p0``, exactly the values
+:func:`~silcount.detectors.adjacency.facing_flags` uses, and whether a
+boundary edge (one face) is below it.  The boxes and flags are stored in
+level order (the root, then each level from its first node), where a node's
+children are adjacent and node ``j`` of a level has children ``j K .. j K +
+K - 1`` on the next: the compiled query walks them level by level, reading
+each level forwards (:mod:`.hierarchy_query`); ``level_of`` maps a preorder
+number to its level-order slot.  A leaf's edge is
 tested by the reference rule (exactly one of its faces lit), so boundary
 and non-manifold edges are in the tree like the others.  The faces are
 renumbered in the order the sorted edges first reach them and their ``p0``
@@ -65,7 +72,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.base import add_scaled
@@ -85,14 +91,17 @@ class Hierarchy:
     edge_start: np.ndarray  # (T + 1,) int64: CSR of their faces (local ids) in ``edge_faces``
     edge_faces: np.ndarray  # (sum of valences,) int32
     nodes: np.ndarray  # (N, 3) int64, preorder (root 0): the subtree's edge positions lo, hi; its skip
-    depth: np.ndarray  # (N,) int64: 0 at the root (the compiled query's split into parallel tasks)
-    bounds: np.ndarray  # (N, 12) float64: normal box lo (3), hi (3), p0 box lo (3), hi (3)
-    boundary: np.ndarray  # (N,) bool: a boundary edge is below the node
+    level_of: np.ndarray  # (N,) int64: the level-order slot of each preorder node (root 0)
+    level_start: np.ndarray  # (D + 1,) int64: each level's first slot, root level first
+    nbox: np.ndarray  # (N, 6) float64, level order: the normal box, lo (3) then hi (3)
+    pbox: np.ndarray  # (N, 6) float64, level order: the p0 box, lo (3) then hi (3)
+    boundary: np.ndarray  # (N,) bool, level order: a boundary edge is below the node
     rest: np.ndarray  # (R,) int64: edges with a non-finite face, tested on every query
     rest_start: np.ndarray  # (R + 1,) int64: CSR of their faces (local ids)
     rest_faces: np.ndarray  # int32
     p0: np.ndarray  # (F, 3) float64: each local face's first vertex
     nrm: np.ndarray  # (F, 3) float64: each local face's normal
+    unit: np.ndarray  # (F, 3) float32: each local face's unit normal, NaN where untrusted (:func:`unit_normals`)
     p0_max: float  # largest |p0| coordinate in the tree (the query's overflow guard)
     leaf_size: int
     fanout: int
@@ -102,6 +111,11 @@ class Hierarchy:
     @property
     def n_nodes(self) -> int:
         return int(self.nodes.shape[0])
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(N, 12), level order: normal box lo, hi, then p0 box lo, hi (a copy of ``nbox`` and ``pbox``)."""
+        return np.hstack([self.nbox, self.pbox])
 
     @property
     def nbytes(self) -> int:
@@ -168,12 +182,30 @@ def shape(n_edges: int, leaf_size: int, fanout: int) -> tuple[np.ndarray, np.nda
     return nodes, depths
 
 
+def level_slots(nodes: np.ndarray, depth: np.ndarray, n_edges: int, leaf_size: int,
+                fanout: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The level-order slot of each preorder node, and each level's first slot (root level first).
+
+    Node ``j`` of level ``l`` (``l = 0`` at the root) is slot ``level_start[l] + j``; its children are
+    slots ``level_start[l + 1] + j K ..`` on the next level, its leaves ``j K**(D - 1 - l) ..``.
+    """
+    sizes = levels(n_edges, leaf_size, fanout)[::-1]
+    level_start = np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)]).astype(np.int64)
+    if not sizes:
+        return np.zeros(0, dtype=np.int64), level_start
+    span = np.asarray(fanout, dtype=np.int64) ** (len(sizes) - 1 - depth)  # leaves below a node of each depth
+    return level_start[depth] + nodes[:, 0] // leaf_size // span, level_start
+
+
+UNIT_RANGE = 2.0**300  # normals with a largest |component| outside [1 / UNIT_RANGE, UNIT_RANGE] get no unit normal
+
+
 def n_leaves(nodes: np.ndarray) -> int:
     """How many of the preorder ``nodes`` are leaves (``skip == i + 1``)."""
     return int(np.count_nonzero(nodes[:, 2] == np.arange(1, nodes.shape[0] + 1)))
 
 
-def _split(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
+def split_edges(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
     """The tree's edge ids (every face finite; ``None`` when that is every edge) and the others (``rest``)."""
     finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
     if finite.all():
@@ -183,7 +215,7 @@ def _split(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
     return np.flatnonzero(~bad), np.flatnonzero(bad)
 
 
-def _key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+def key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """Each tree edge's key faces: its first two sides' faces (a boundary edge's one face twice)."""
     start, order = mesh.edge_sides
     first = start[:-1] if ids is None else start[ids]
@@ -194,156 +226,10 @@ def _key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarr
 def tree_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The edges in the tree (every face finite), the others, the edges' face CSR, and each edge's key faces."""
     start, order = mesh.edge_sides
-    ids, rest = _split(mesh)
-    f1, f2 = _key_faces(mesh, ids)
+    ids, rest = split_edges(mesh)
+    f1, f2 = key_faces(mesh, ids)
     ids = np.arange(mesh.n_edges, dtype=np.int64) if ids is None else ids
     return ids, rest, start, mesh.side_face[order], np.stack([f1, f2], axis=1)
-
-
-# ---- the fast build -------------------------------------------------------------------------------------
-@njit(cache=True)
-def _radix_argsort(keys, n_bits, digit_bits):  # pragma: no cover - compiled
-    """A stable LSD radix argsort of uint64 ``keys`` below ``2**n_bits``, moving (key, index) pairs."""
-    n = keys.size
-    k, idx = keys.copy(), np.arange(n)
-    k2, idx2 = np.empty_like(k), np.empty_like(idx)
-    radix = 1 << digit_bits
-    mask = np.uint64(radix - 1)
-    shift = 0
-    while shift < n_bits:
-        hist = np.zeros(radix + 1, dtype=np.int64)
-        for i in range(n):
-            hist[np.int64((k[i] >> np.uint64(shift)) & mask) + 1] += 1
-        for d in range(radix):
-            hist[d + 1] += hist[d]
-        for i in range(n):
-            d = np.int64((k[i] >> np.uint64(shift)) & mask)
-            k2[hist[d]] = k[i]
-            idx2[hist[d]] = idx[i]
-            hist[d] += 1
-        k, k2 = k2, k
-        idx, idx2 = idx2, idx
-        shift += digit_bits
-    return idx
-
-
-@njit(cache=True, inline="always")
-def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
-    """Face ``f`` becomes local face ``nxt``, its ``p0`` and normal copied there; the next free number."""
-    local[f] = nxt
-    for c in range(3):
-        lp0[nxt, c] = p0[f, c]
-        lnrm[nxt, c] = nrm[f, c]
-    return nxt + 1
-
-
-@njit(cache=True)
-def _renumber(perm, every, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
-    """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order.
-
-    ``perm`` sorts the tree's edges: every edge (``every``) or ``ids``; edge ``e``'s faces are
-    ``side_face[sides[start[e]:start[e + 1]]]`` (read in place: no copy of the 2E face references).
-    """
-    T, F = perm.size, p0.shape[0]
-    order = np.empty(T, dtype=np.int64)
-    e_start = np.empty(T + 1, dtype=np.int64)
-    e_start[0] = 0
-    local = np.full(F, -1, dtype=np.int32)
-    lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
-    e_faces = np.empty(sides.size, dtype=np.int32)
-    nxt, w = 0, 0
-    for i in range(T):
-        e = perm[i] if every else ids[perm[i]]
-        order[i] = e
-        for q in range(start[e], start[e + 1]):
-            f = side_face[sides[q]]
-            if local[f] < 0:
-                nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
-            e_faces[w] = local[f]
-            w += 1
-        e_start[i + 1] = w
-    for f in range(F):  # faces no tree edge reaches (a non-finite value)
-        if local[f] < 0:
-            nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
-    return order, e_start, e_faces[:w], local, lp0, lnrm
-
-
-@njit(cache=True)
-def _node_bounds(e_start, e_faces, nrm, p0, nodes, bounds, boundary):  # pragma: no cover - compiled
-    """Every node's boxes and boundary flag, last node first (a node's subtree follows it in preorder)."""
-    for i in range(nodes.shape[0] - 1, -1, -1):
-        b = bounds[i]
-        for c in range(3):
-            b[c] = np.inf
-            b[6 + c] = np.inf
-            b[3 + c] = -np.inf
-            b[9 + c] = -np.inf
-        flag = False
-        skip = nodes[i, 2]
-        if skip == i + 1:  # a leaf: its edges' faces
-            for e in range(nodes[i, 0], nodes[i, 1]):
-                flag |= e_start[e + 1] - e_start[e] == 1
-                for q in range(e_start[e], e_start[e + 1]):
-                    f = e_faces[q]
-                    for c in range(3):
-                        v = nrm[f, c]
-                        if v < b[c]:
-                            b[c] = v
-                        if v > b[3 + c]:
-                            b[3 + c] = v
-                        v = p0[f, c]
-                        if v < b[6 + c]:
-                            b[6 + c] = v
-                        if v > b[9 + c]:
-                            b[9 + c] = v
-        else:  # its children: the next node, then each one's skip
-            k = i + 1
-            while k < skip:
-                ch = bounds[k]
-                for c in range(3):
-                    for off in (0, 6):
-                        if ch[off + c] < b[off + c]:
-                            b[off + c] = ch[off + c]
-                        if ch[off + 3 + c] > b[off + 3 + c]:
-                            b[off + 3 + c] = ch[off + 3 + c]
-                flag |= boundary[k]
-                k = nodes[k, 2]
-        boundary[i] = flag
-
-
-def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hierarchy:
-    """The tree over the mesh's edges, sorted by ``scheme``'s keys, built by compiled kernels.
-
-    The build tally is charged from the tree's sizes and ``scheme``'s per-key and set-up costs, as
-    :func:`.hierarchy_naive.build_naive` executes them (it has no data-dependent branch but the
-    first visit of each face, which happens once per face).
-    """
-    start, sides = mesh.edge_sides
-    ids, rest = _split(mesh)
-    keys = scheme.fast(mesh, *_key_faces(mesh, ids))  # each temporary freed as soon as it is used:
-    perm = _radix_argsort(np.ascontiguousarray(keys, dtype=np.uint64), scheme.bits, DIGIT_BITS)
-    del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
-    every = ids is None
-    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, every, np.zeros(0, dtype=np.int64) if every else ids,
-                                                          start, sides, mesh.side_face, mesh.face_p0,
-                                                          mesh.face_normals)  # fmt: skip
-    del perm, ids
-    counts = mesh.edge_valence[rest]
-    r_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    r_sides = sides[np.repeat(start[rest], counts) + np.arange(r_start[-1]) - np.repeat(r_start[:-1], counts)]
-    r_faces = local[mesh.side_face[r_sides]]
-    del local, r_sides
-    nodes, depth = shape(order.size, leaf_size, fanout)
-    bounds = np.empty((nodes.shape[0], 12), dtype=np.float64)
-    boundary = np.zeros(nodes.shape[0], dtype=np.bool_)
-    _node_bounds(e_start, e_faces, lnrm, lp0, nodes, bounds, boundary)
-    p0_max = float(np.abs(bounds[0, 6:]).max()) if order.size else 0.0
-    sizes = {"faces": mesh.n_faces, "tree_edges": int(order.size), "tree_sides": int(e_faces.size),
-             "rest_edges": int(rest.size), "rest_sides": int(r_faces.size), "nodes": int(nodes.shape[0]),
-             "leaves": n_leaves(nodes)}  # fmt: skip
-    steps, tally = build_cost(sizes, scheme)
-    return Hierarchy(order, e_start, e_faces, nodes, depth, bounds, boundary, rest, r_start,
-                     r_faces.astype(np.int32), lp0, lnrm, p0_max, leaf_size, fanout, steps, tally)  # fmt: skip
 
 
 def build_cost(sizes: dict[str, int], scheme: KeyScheme) -> tuple[dict[str, int], dict[str, int]]:
@@ -390,5 +276,5 @@ def overflows(tree: Hierarchy, light: Light) -> bool:
     return (not isinstance(light, DirectionalLight)) and float(np.abs(light.vector).max()) + tree.p0_max > 1e307
 
 
-__all__ = ["Hierarchy", "KeyScheme", "LEAF_SIZE", "FANOUT", "build_fast", "build_cost", "levels", "shape",
-           "tree_edges", "overflows", "n_leaves", "STEP_NAMES"]  # fmt: skip
+__all__ = ["Hierarchy", "KeyScheme", "LEAF_SIZE", "FANOUT", "UNIT_RANGE", "build_cost", "levels", "shape",
+           "level_slots", "tree_edges", "split_edges", "key_faces", "overflows", "n_leaves", "STEP_NAMES"]  # fmt: skip

@@ -1,10 +1,12 @@
 """The bounded edge hierarchy on counting arithmetic: the ``naive`` engine of ``gaussmap`` and ``cones``.
 
-:func:`build_naive` builds the tree :func:`~silcount.detectors.hierarchy.build_fast`
-builds, and :func:`query_naive` answers a light as the compiled
-:func:`~silcount.detectors.hierarchy_query.query_fast` does, with every scalar
-operation counted (``docs/counting.md``, "gaussmap and cones").  The tests
-hold the two engines' trees, edge sets, steps and tallies equal.
+:func:`build_naive` builds the tree :func:`~silcount.detectors.hierarchy_build.build_fast`
+builds, and :func:`query_naive` answers a light with every scalar operation
+counted (``docs/counting.md``, "gaussmap and cones"): one depth-first pass
+over the preorder nodes, each face evaluated exactly.  The compiled
+:func:`~silcount.detectors.hierarchy_query.query_fast` takes the same steps
+level by level, with a float32 pre-test of each face's sign.  The tests hold
+the two engines' trees, edge sets, steps and tallies equal.
 """
 
 from __future__ import annotations
@@ -20,17 +22,19 @@ from silcount.detectors.hierarchy import (
     STEP_NAMES,
     Hierarchy,
     KeyScheme,
+    level_slots,
     n_leaves,
     overflows,
     shape,
     tree_edges,
 )
+from silcount.detectors.hierarchy_build import unit_normals
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
 
 def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, counter: OpCounter) -> Hierarchy:
-    """:func:`~silcount.detectors.hierarchy.build_fast`'s tree, built on counting arithmetic."""
+    """:func:`~silcount.detectors.hierarchy_build.build_fast`'s tree, built on counting arithmetic."""
     mem = MeshMemory(mesh, DirectionalLight((0.0, 0.0, 1.0)), counter)  # the build reads no light
     F = mesh.n_faces
     p0, nrm = Memory(np.zeros((F, 3)), counter), Memory(np.zeros((F, 3)), counter)
@@ -86,7 +90,11 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
             counter.tick("write")  # stored in the rest CSR
     r_start = np.concatenate([[0], np.cumsum(mesh.edge_valence[rest])]).astype(np.int64)
     nodes, depth, bounds, boundary = _bounds_naive(e_start, e_faces, lp0, lnrm, T, leaf_size, fanout, counter)
-    b = np.asarray(bounds.data)
+    level_of, level_start = level_slots(nodes, depth, T, leaf_size, fanout)
+    b = np.empty_like(np.asarray(bounds.data))  # stored in level order (a layout, not counted)
+    b[level_of] = np.asarray(bounds.data)
+    flags = np.empty_like(np.asarray(boundary.data))
+    flags[level_of] = np.asarray(boundary.data)
     sizes = {
         "faces": F,
         "tree_edges": T,
@@ -102,14 +110,17 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
         edge_start=np.asarray(e_start.data),
         edge_faces=np.asarray(e_faces.data[:w]),
         nodes=nodes,
-        depth=depth,
-        bounds=b,
-        boundary=np.asarray(boundary.data),
+        level_of=level_of,
+        level_start=level_start,
+        nbox=np.ascontiguousarray(b[:, :6]),
+        pbox=np.ascontiguousarray(b[:, 6:]),
+        boundary=flags,
         rest=rest,
         rest_start=r_start,
         rest_faces=np.asarray(r_faces, dtype=np.int32),
         p0=np.asarray(lp0.data),
         nrm=np.asarray(lnrm.data),
+        unit=unit_normals(np.asarray(lnrm.data)),  # the compiled query's pre-test only (not counted)
         p0_max=float(np.abs(b[0, 6:]).max()) if T else 0.0,
         leaf_size=leaf_size,
         fanout=fanout,
@@ -120,7 +131,7 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
 
 def _bounds_naive(e_start: Memory, e_faces: Memory, p0: Memory, nrm: Memory, T: int, leaf_size: int, fanout: int,
                   counter: OpCounter) -> tuple:  # fmt: skip
-    """The nodes' boxes and boundary flags, last node first, on counting arithmetic."""
+    """The nodes' boxes and boundary flags in preorder, last node first, on counting arithmetic."""
     nodes_plain, depth = shape(T, leaf_size, fanout)
     N = nodes_plain.shape[0]
     nodes = Memory(nodes_plain.copy(), counter)  # the shape, as computed; stored below with the boxes
@@ -218,9 +229,10 @@ def query_naive(mesh: Mesh, tree: Hierarchy, light: Light, counter: OpCounter) -
     i = 0
     while i < tree.n_nodes:
         steps["node_test"] += 1
-        lb, ub = _counted_bound(bounds, i, L, directional)
+        slot = int(tree.level_of[i])  # where preorder node i's boxes are stored (index arithmetic)
+        lb, ub = _counted_bound(bounds, slot, L, directional)
         if lb > 0.0:
-            if not plain(boundary[i]):
+            if not plain(boundary[slot]):
                 steps["node_lit"] += 1
                 i = plain(nodes[i, 2])
                 continue

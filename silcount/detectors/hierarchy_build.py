@@ -1,0 +1,206 @@
+"""The compiled build of a bounded edge hierarchy (:mod:`.hierarchy`): sort, renumber, box.
+
+:func:`build_fast` builds the tree :func:`.hierarchy_naive.build_naive` builds on
+counting arithmetic, array for array (tested), and charges it the counted
+build's tally from the tree's sizes (:func:`.hierarchy.build_cost`).  It also
+keeps each face's float32 unit normal (:func:`unit_normals`), for the compiled
+query's pre-test (:mod:`.hierarchy_walk`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from silcount.detectors.hierarchy import (
+    DIGIT_BITS,
+    UNIT_RANGE,
+    Hierarchy,
+    KeyScheme,
+    build_cost,
+    key_faces,
+    level_slots,
+    n_leaves,
+    shape,
+    split_edges,
+)
+from silcount.mesh.model import Mesh
+
+
+@njit(cache=True)
+def _radix_argsort(keys, n_bits, digit_bits):  # pragma: no cover - compiled
+    """A stable LSD radix argsort of uint64 ``keys`` below ``2**n_bits``, moving (key, index) pairs."""
+    n = keys.size
+    k, idx = keys.copy(), np.arange(n)
+    k2, idx2 = np.empty_like(k), np.empty_like(idx)
+    radix = 1 << digit_bits
+    mask = np.uint64(radix - 1)
+    shift = 0
+    while shift < n_bits:
+        hist = np.zeros(radix + 1, dtype=np.int64)
+        for i in range(n):
+            hist[np.int64((k[i] >> np.uint64(shift)) & mask) + 1] += 1
+        for d in range(radix):
+            hist[d + 1] += hist[d]
+        for i in range(n):
+            d = np.int64((k[i] >> np.uint64(shift)) & mask)
+            k2[hist[d]] = k[i]
+            idx2[hist[d]] = idx[i]
+            hist[d] += 1
+        k, k2 = k2, k
+        idx, idx2 = idx2, idx
+        shift += digit_bits
+    return idx
+
+
+@njit(cache=True, inline="always")
+def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
+    """Face ``f`` becomes local face ``nxt``, its ``p0`` and normal copied there; the next free number."""
+    local[f] = nxt
+    for c in range(3):
+        lp0[nxt, c] = p0[f, c]
+        lnrm[nxt, c] = nrm[f, c]
+    return nxt + 1
+
+
+@njit(cache=True)
+def _renumber(perm, every, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
+    """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order.
+
+    ``perm`` sorts the tree's edges: every edge (``every``) or ``ids``; edge ``e``'s faces are
+    ``side_face[sides[start[e]:start[e + 1]]]`` (read in place: no copy of the 2E face references).
+    """
+    T, F = perm.size, p0.shape[0]
+    order = np.empty(T, dtype=np.int64)
+    e_start = np.empty(T + 1, dtype=np.int64)
+    e_start[0] = 0
+    local = np.full(F, -1, dtype=np.int32)
+    lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
+    e_faces = np.empty(sides.size, dtype=np.int32)
+    nxt, w = 0, 0
+    for i in range(T):
+        e = perm[i] if every else ids[perm[i]]
+        order[i] = e
+        for q in range(start[e], start[e + 1]):
+            f = side_face[sides[q]]
+            if local[f] < 0:
+                nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
+            e_faces[w] = local[f]
+            w += 1
+        e_start[i + 1] = w
+    for f in range(F):  # faces no tree edge reaches (a non-finite value)
+        if local[f] < 0:
+            nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
+    return order, e_start, e_faces[:w], local, lp0, lnrm
+
+
+@njit(cache=True, inline="always")
+def _widen(b, lo, hi):  # pragma: no cover - compiled
+    """Box ``b`` (lo 3, hi 3) widened by the box ``lo .. hi``: first-seen wins a tie, as in the counted build."""
+    for c in range(3):
+        if lo[c] < b[c]:
+            b[c] = lo[c]
+        if hi[c] > b[3 + c]:
+            b[3 + c] = hi[c]
+
+
+@njit(cache=True)
+def _level_bounds(e_start, e_faces, nrm, p0, level_start, leaf_size, fanout, nbox, pbox, boundary):  # pragma: no cover
+    """Every node's boxes and boundary flag in level order: the leaves from their edges' faces, then
+    each level up from its children, in order (the counted build's values, compare for compare)."""
+    D = level_start.size - 1
+    T = e_start.size - 1
+    for lvl in range(D - 1, -1, -1):
+        first, size = level_start[lvl], level_start[lvl + 1] - level_start[lvl]
+        for j in range(size):
+            nb, pb = nbox[first + j], pbox[first + j]
+            nb[:3] = np.inf
+            pb[:3] = np.inf
+            nb[3:] = -np.inf
+            pb[3:] = -np.inf
+            flag = False
+            if lvl == D - 1:  # a leaf: its edges' faces
+                for e in range(j * leaf_size, min(j * leaf_size + leaf_size, T)):
+                    flag |= e_start[e + 1] - e_start[e] == 1
+                    for q in range(e_start[e], e_start[e + 1]):
+                        f = e_faces[q]
+                        _widen(nb, nrm[f], nrm[f])
+                        _widen(pb, p0[f], p0[f])
+            else:  # its children, in order
+                below, n_below = level_start[lvl + 1], level_start[lvl + 2] - level_start[lvl + 1]
+                for k in range(below + j * fanout, below + min(j * fanout + fanout, n_below)):
+                    _widen(nb, nbox[k, :3], nbox[k, 3:])
+                    _widen(pb, pbox[k, :3], pbox[k, 3:])
+                    flag |= boundary[k]
+            boundary[first + j] = flag
+
+
+@njit(cache=True)
+def _unit_normals(nrm, unit, lo, hi):  # pragma: no cover - compiled
+    """:func:`unit_normals` into ``unit`` (NaN where untrusted), without temporaries."""
+    for f in range(nrm.shape[0]):
+        m = max(abs(nrm[f, 0]), abs(nrm[f, 1]), abs(nrm[f, 2]))
+        if not (lo <= m <= hi):  # NaN fails too
+            unit[f, :] = np.nan
+            continue
+        x, y, z = nrm[f, 0] / m, nrm[f, 1] / m, nrm[f, 2] / m
+        r = math.sqrt(x * x + y * y + z * z)
+        unit[f, 0], unit[f, 1], unit[f, 2] = x / r, y / r, z / r
+
+
+def unit_normals(nrm: np.ndarray) -> np.ndarray:
+    """Each face's unit normal rounded to float32, NaN for a face whose largest |component| is outside
+    ``[2**-300, 2**300]`` (zero, tiny, huge or not finite): the compiled query's pre-test
+    (:mod:`.hierarchy_query`) then evaluates that face exactly.
+
+    The float64 quotient ``(n / m) / |n / m|`` (``m`` its largest |component|, so no step over- or
+    underflows) is within a few float64 ulps of ``n / |n|``, and rounding to float32 adds at most
+    ``2**-25`` a component: every stored component is within ``2**-24`` of the true unit normal's.
+    """
+    unit = np.empty(nrm.shape, dtype=np.float32)
+    _unit_normals(np.ascontiguousarray(nrm, dtype=np.float64).reshape(-1, 3), unit.reshape(-1, 3), 1.0 / UNIT_RANGE,
+                  UNIT_RANGE)  # fmt: skip
+    return unit
+
+
+def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hierarchy:
+    """The tree over the mesh's edges, sorted by ``scheme``'s keys, built by compiled kernels.
+
+    The build tally is charged from the tree's sizes and ``scheme``'s per-key and set-up costs, as
+    :func:`.hierarchy_naive.build_naive` executes them (it has no data-dependent branch but the
+    first visit of each face, which happens once per face).
+    """
+    start, sides = mesh.edge_sides
+    ids, rest = split_edges(mesh)
+    keys = scheme.fast(mesh, *key_faces(mesh, ids))  # each temporary freed as soon as it is used:
+    perm = _radix_argsort(np.ascontiguousarray(keys, dtype=np.uint64), scheme.bits, DIGIT_BITS)
+    del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
+    every = ids is None
+    order, e_start, e_faces, local, lp0, lnrm = _renumber(perm, every, np.zeros(0, dtype=np.int64) if every else ids,
+                                                          start, sides, mesh.side_face, mesh.face_p0,
+                                                          mesh.face_normals)  # fmt: skip
+    del perm, ids
+    counts = mesh.edge_valence[rest]
+    r_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    r_sides = sides[np.repeat(start[rest], counts) + np.arange(r_start[-1]) - np.repeat(r_start[:-1], counts)]
+    r_faces = local[mesh.side_face[r_sides]]
+    del local, r_sides
+    nodes, depth = shape(order.size, leaf_size, fanout)
+    level_of, level_start = level_slots(nodes, depth, order.size, leaf_size, fanout)
+    del depth
+    nbox, pbox = np.empty((nodes.shape[0], 6)), np.empty((nodes.shape[0], 6))
+    boundary = np.zeros(nodes.shape[0], dtype=np.bool_)
+    _level_bounds(e_start, e_faces, lnrm, lp0, level_start, leaf_size, fanout, nbox, pbox, boundary)
+    p0_max = float(np.abs(pbox[0]).max()) if order.size else 0.0
+    sizes = {"faces": mesh.n_faces, "tree_edges": int(order.size), "tree_sides": int(e_faces.size),
+             "rest_edges": int(rest.size), "rest_sides": int(r_faces.size), "nodes": int(nodes.shape[0]),
+             "leaves": n_leaves(nodes)}  # fmt: skip
+    steps, tally = build_cost(sizes, scheme)
+    return Hierarchy(order, e_start, e_faces, nodes, level_of, level_start, nbox, pbox, boundary, rest, r_start,
+                     r_faces.astype(np.int32), lp0, lnrm, unit_normals(lnrm), p0_max, leaf_size, fanout, steps,
+                     tally)  # fmt: skip
+
+
+__all__ = ["build_fast", "unit_normals"]
