@@ -101,7 +101,7 @@ class Hierarchy:
     rest_faces: np.ndarray  # int32
     p0: np.ndarray  # (F, 3) float64: each local face's first vertex
     nrm: np.ndarray  # (F, 3) float64: each local face's normal
-    unit: np.ndarray  # (F, 3) float32: each local face's unit normal, NaN where untrusted (:func:`unit_normals`)
+    plane: np.ndarray  # (F, 4) float32: each local face's unit normal and offset, NaN where untrusted
     p0_max: float  # largest |p0| coordinate in the tree (the query's overflow guard)
     leaf_size: int
     fanout: int

@@ -3,7 +3,7 @@
 :func:`build_fast` builds the tree :func:`.hierarchy_naive.build_naive` builds on
 counting arithmetic, array for array (tested), and charges it the counted
 build's tally from the tree's sizes (:func:`.hierarchy.build_cost`).  It also
-keeps each face's float32 unit normal (:func:`unit_normals`), for the compiled
+keeps each face's plane in float32 (:func:`face_planes`), for the compiled
 query's pre-test (:mod:`.hierarchy_walk`).
 """
 
@@ -138,31 +138,37 @@ def _level_bounds(e_start, e_faces, nrm, p0, level_start, leaf_size, fanout, nbo
 
 
 @njit(cache=True)
-def _unit_normals(nrm, unit, lo, hi):  # pragma: no cover - compiled
-    """:func:`unit_normals` into ``unit`` (NaN where untrusted), without temporaries."""
+def _face_planes(nrm, p0, plane, lo, hi, p_max):  # pragma: no cover - compiled
+    """:func:`face_planes` into ``plane`` (NaN rows where untrusted), without temporaries."""
     for f in range(nrm.shape[0]):
         m = max(abs(nrm[f, 0]), abs(nrm[f, 1]), abs(nrm[f, 2]))
-        if not (lo <= m <= hi):  # NaN fails too
-            unit[f, :] = np.nan
+        big = max(abs(p0[f, 0]), abs(p0[f, 1]), abs(p0[f, 2]))
+        if not (lo <= m <= hi and big <= p_max):  # NaN fails too
+            plane[f, :] = np.nan
             continue
         x, y, z = nrm[f, 0] / m, nrm[f, 1] / m, nrm[f, 2] / m
         r = math.sqrt(x * x + y * y + z * z)
-        unit[f, 0], unit[f, 1], unit[f, 2] = x / r, y / r, z / r
+        x, y, z = x / r, y / r, z / r
+        plane[f, 0], plane[f, 1], plane[f, 2] = x, y, z
+        plane[f, 3] = (p0[f, 0] * x + p0[f, 1] * y) + p0[f, 2] * z
 
 
-def unit_normals(nrm: np.ndarray) -> np.ndarray:
-    """Each face's unit normal rounded to float32, NaN for a face whose largest |component| is outside
-    ``[2**-300, 2**300]`` (zero, tiny, huge or not finite): the compiled query's pre-test
-    (:mod:`.hierarchy_query`) then evaluates that face exactly.
+def face_planes(nrm: np.ndarray, p0: np.ndarray, p0_max: float) -> np.ndarray:
+    """Each face's unit normal ``u`` and offset ``c = p0 . u``, rounded to float32 (F x 4): the compiled
+    query's pre-test of a face's sign (:func:`.hierarchy_walk.pretest`).  A row is NaN (the face is then
+    always evaluated exactly) where the normal's largest |component| is outside ``[2**-300, 2**300]``
+    (zero, tiny, huge or not finite) or a ``p0`` coordinate exceeds ``p0_max`` in magnitude.
 
     The float64 quotient ``(n / m) / |n / m|`` (``m`` its largest |component|, so no step over- or
     underflows) is within a few float64 ulps of ``n / |n|``, and rounding to float32 adds at most
     ``2**-25`` a component: every stored component is within ``2**-24`` of the true unit normal's.
+    The offset is computed in float64 from the float64 unit normal (within ``2**-47.9 |p0|_1`` of
+    ``p0 . n / |n|``), then rounded to float32 (``2**-24`` of itself more).
     """
-    unit = np.empty(nrm.shape, dtype=np.float32)
-    _unit_normals(np.ascontiguousarray(nrm, dtype=np.float64).reshape(-1, 3), unit.reshape(-1, 3), 1.0 / UNIT_RANGE,
-                  UNIT_RANGE)  # fmt: skip
-    return unit
+    plane = np.empty((nrm.shape[0], 4), dtype=np.float32)
+    _face_planes(np.ascontiguousarray(nrm, dtype=np.float64), np.ascontiguousarray(p0, dtype=np.float64), plane,
+                 1.0 / UNIT_RANGE, UNIT_RANGE, p0_max)  # fmt: skip
+    return plane
 
 
 def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hierarchy:
@@ -199,8 +205,8 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
              "leaves": n_leaves(nodes)}  # fmt: skip
     steps, tally = build_cost(sizes, scheme)
     return Hierarchy(order, e_start, e_faces, nodes, level_of, level_start, nbox, pbox, boundary, rest, r_start,
-                     r_faces.astype(np.int32), lp0, lnrm, unit_normals(lnrm), p0_max, leaf_size, fanout, steps,
-                     tally)  # fmt: skip
+                     r_faces.astype(np.int32), lp0, lnrm, face_planes(lnrm, lp0, p0_max), p0_max, leaf_size, fanout,
+                     steps, tally)  # fmt: skip
 
 
-__all__ = ["build_fast", "unit_normals"]
+__all__ = ["build_fast", "face_planes"]

@@ -28,7 +28,7 @@ from silcount.detectors.hierarchy import (
     shape,
     tree_edges,
 )
-from silcount.detectors.hierarchy_build import unit_normals
+from silcount.detectors.hierarchy_build import face_planes
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
@@ -95,6 +95,7 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
     b[level_of] = np.asarray(bounds.data)
     flags = np.empty_like(np.asarray(boundary.data))
     flags[level_of] = np.asarray(boundary.data)
+    p0_max = float(np.abs(b[0, 6:]).max()) if T else 0.0
     sizes = {
         "faces": F,
         "tree_edges": T,
@@ -120,8 +121,8 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
         rest_faces=np.asarray(r_faces, dtype=np.int32),
         p0=np.asarray(lp0.data),
         nrm=np.asarray(lnrm.data),
-        unit=unit_normals(np.asarray(lnrm.data)),  # the compiled query's pre-test only (not counted)
-        p0_max=float(np.abs(b[0, 6:]).max()) if T else 0.0,
+        plane=face_planes(np.asarray(lnrm.data), np.asarray(lp0.data), p0_max),  # the compiled pre-test's (uncounted)
+        p0_max=p0_max,
         leaf_size=leaf_size,
         fanout=fanout,
         build_steps=sizes,

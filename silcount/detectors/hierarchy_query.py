@@ -4,7 +4,7 @@
 its level-order boxes, skipping every node whose boxes prove all its faces
 lit or all unlit (the proof is in :mod:`.hierarchy`'s docstring), and tests
 the edges of the leaves it reaches by the reference rule, pre-testing each
-face's sign in float32 under a directional light (:func:`pretest`).  It
+face's sign from its float32 plane (:func:`.hierarchy_walk.pretest`).  It
 tests the nodes, edges and faces of the depth-first walk of
 :func:`.hierarchy_naive.query_naive`; :func:`query_cost` charges those steps
 what that walk executes for them (``docs/counting.md``).  :func:`detect` is
@@ -46,9 +46,9 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     nbox, pbox = tree.nbox, tree.pbox
     if overflows(tree, light):  # no box is trusted: every node is opened
         nbox, pbox = np.full_like(nbox, np.nan), np.full_like(pbox, np.nan)
-    l32, thr = pretest(light)
+    l32, thr = pretest(light, tree.p0_max)
     args = (nbox, pbox, tree.boundary, tree.level_start, tree.leaf_size, tree.fanout, tree.edge_start, tree.edge_faces,
-            tree.order, tree.rest, tree.rest_start, tree.rest_faces, tree.p0, tree.nrm, tree.unit,
+            tree.order, tree.rest, tree.rest_start, tree.rest_faces, tree.p0, tree.nrm, tree.plane,
             np.asarray(light.vector, dtype=np.float64), l32, thr, directional, out, stats)  # fmt: skip
     if tree.n_nodes >= PARALLEL_NODES:
         k = query_parallel(*args, TASK_LEVEL)

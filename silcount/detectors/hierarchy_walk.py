@@ -4,19 +4,20 @@
 light on a :class:`.hierarchy.Hierarchy`.  They walk the level-order boxes from
 the root, skipping every node whose boxes prove all its faces lit or all unlit
 (the proof is in :mod:`.hierarchy`'s docstring), and test the edges of the
-leaves they reach by the reference rule.  Under a directional light each
-face's sign is first decided in float32 from its unit normal where that is
-provably right (:func:`pretest`).  The nodes, edges and faces they test are
-those of :func:`.hierarchy_naive.query_naive`'s depth-first walk
-(docs/literature.md, "The compiled query").
+leaves they reach by the reference rule.  Each face's sign is first decided
+from its float32 plane where that is provably right (:func:`pretest`).  The
+nodes, edges and faces they test are those of
+:func:`.hierarchy_naive.query_naive`'s depth-first walk (docs/literature.md,
+"The compiled query").
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
-from silcount.detectors.hierarchy import UNIT_RANGE
 from silcount.mesh.lights import DirectionalLight, Light
 
 
@@ -29,13 +30,13 @@ def _facing_value(p0, nrm, f, lx, ly, lz, directional):  # pragma: no cover - co
 
 
 @njit(cache=True)
-def _test_edges(starts, faces, ids, lo, hi, p0, nrm, unit, light, l32, thr, directional, out, k,
+def _test_edges(starts, faces, ids, lo, hi, p0, nrm, plane, light, l32, thr, directional, out, k,
                 stats):  # fmt: skip  # pragma: no cover - compiled
     """The reference rule for edges ``lo .. hi - 1`` of a face CSR: exactly one face lit; returns the new ``k``.
 
-    Under a directional light each face is first pre-tested in float32 with its unit normal
-    (``l32 . unit``, see :func:`pretest`): beyond ``thr`` either way its facing value's sign is proved
-    and is not 0; otherwise (and for point lights) the exact value is evaluated.  Adds the edges
+    Each face is first pre-tested with its float32 plane (:func:`pretest`): ``l32 . u`` in float32
+    under a directional light, ``L . u - c`` in float64 under a point light; beyond ``thr`` either way
+    its facing value's sign is proved and is not 0; otherwise the exact value is evaluated.  Adds the edges
     tested, their faces evaluated and the ties among them to ``stats`` 6, 7 and 9.
     """
     lx, ly, lz = light[0], light[1], light[2]
@@ -46,9 +47,14 @@ def _test_edges(starts, faces, ids, lo, hi, p0, nrm, unit, light, l32, thr, dire
         for q in range(starts[e], starts[e + 1]):
             f = faces[q]
             if directional:
-                w = dx * unit[f, 0] + dy * unit[f, 1] + dz * unit[f, 2]  # float32
+                w = dx * plane[f, 0] + dy * plane[f, 1] + dz * plane[f, 2]  # float32
                 if abs(w) > thr:  # the sign is proved (a NaN fails): no branch on it
                     count += w > 0.0
+                    continue
+            else:
+                wp = ((lx * plane[f, 0] + ly * plane[f, 1]) + lz * plane[f, 2]) - plane[f, 3]  # float64
+                if abs(wp) > thr:
+                    count += wp > 0.0
                     continue
             d = _facing_value(p0, nrm, f, lx, ly, lz, directional)
             ties += d == 0.0
@@ -91,7 +97,7 @@ def _axis(lc, n_lo, n_hi, p_lo, p_hi, directional):  # pragma: no cover - compil
 
 
 @njit(cache=True)
-def _walk(level, j0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, unit,
+def _walk(level, j0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, plane,
           light, l32, thr, directional, out, k, stats, buf, task_level, tasks):  # fmt: skip  # pragma: no cover
     """Level by level from node ``j0`` of ``level``: edge ids into ``out[k:]``; the new ``k``.
 
@@ -143,7 +149,7 @@ def _walk(level, j0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_sta
             if leaf:
                 leaves += 1
                 k = _test_edges(e_start, e_faces, order, j * leaf_size, min(j * leaf_size + leaf_size, T), p0, nrm,
-                                unit, light, l32, thr, directional, out, k, stats)  # fmt: skip
+                                plane, light, l32, thr, directional, out, k, stats)  # fmt: skip
                 continue
             opened += 1
             hi = min(j * fanout + fanout, level_start[level + 2] - level_start[level + 1])
@@ -172,21 +178,21 @@ TASK_LEVEL = 3  # subtrees rooted on this level are the parallel tasks (64 with 
 
 @njit(cache=True)
 def query_serial(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, rest, r_start, r_faces,
-                 p0, nrm, unit, light, l32, thr, directional, out, stats):  # fmt: skip  # pragma: no cover - compiled
+                 p0, nrm, plane, light, l32, thr, directional, out, stats):  # fmt: skip  # pragma: no cover - compiled
     """:func:`query_parallel` in one thread: the whole walk, then ``rest``."""
     k = 0
     if level_start.size > 1:
         widest = np.max(level_start[1:] - level_start[:-1])
-        k = _walk(0, 0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, unit,
+        k = _walk(0, 0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, plane,
                   light, l32, thr, directional, out, 0, stats, np.empty(2 * widest, dtype=np.int64), -1,
                   np.zeros(1, dtype=np.int64))  # fmt: skip
-    return _test_edges(r_start, r_faces, rest, 0, rest.size, p0, nrm, unit, light, l32, thr, directional, out, k,
+    return _test_edges(r_start, r_faces, rest, 0, rest.size, p0, nrm, plane, light, l32, thr, directional, out, k,
                        stats)  # fmt: skip
 
 
 @njit(cache=True, parallel=True)
 def query_parallel(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, rest, r_start,
-                   r_faces, p0, nrm, unit, light, l32, thr, directional, out, stats,
+                   r_faces, p0, nrm, plane, light, l32, thr, directional, out, stats,
                    task_level):  # fmt: skip  # pragma: no cover - compiled
     """Silhouette edge ids into ``out``, ascending by position (tree edges in leaf order, then ``rest``).
 
@@ -198,11 +204,11 @@ def query_parallel(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start
     k = 0
     if D <= task_level:  # no level to split on
         return query_serial(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, rest,
-                             r_start, r_faces, p0, nrm, unit, light, l32, thr, directional, out, stats)  # fmt: skip
+                             r_start, r_faces, p0, nrm, plane, light, l32, thr, directional, out, stats)  # fmt: skip
     width = level_start[task_level] - level_start[task_level - 1]  # the widest level above the split
     tasks = np.zeros(level_start[task_level + 1] - level_start[task_level] + 1, dtype=np.int64)
-    k = _walk(0, 0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, unit, light,
-              l32, thr, directional, out, 0, stats, np.empty(2 * width, dtype=np.int64), task_level,
+    k = _walk(0, 0, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order, p0, nrm, plane,
+              light, l32, thr, directional, out, 0, stats, np.empty(2 * width, dtype=np.int64), task_level,
               tasks)  # fmt: skip
     n_tasks = tasks[0]
     span = fanout ** (D - 1 - task_level)  # a task's leaves (at most), so its widest level
@@ -213,7 +219,7 @@ def query_parallel(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start
         j = tasks[t + 1]
         base = j * span * leaf_size
         counts[t] = _walk(task_level, j, nbox, pbox, boundary, level_start, leaf_size, fanout, e_start, e_faces, order,
-                          p0, nrm, unit, light, l32, thr, directional, out, base, t_stats[t], bufs[t], -1,
+                          p0, nrm, plane, light, l32, thr, directional, out, base, t_stats[t], bufs[t], -1,
                           tasks[:1]) - base  # fmt: skip
     for t in range(n_tasks):  # the tasks' runs, compacted in order (after the top walk's own)
         base = tasks[t + 1] * span * leaf_size
@@ -221,42 +227,54 @@ def query_parallel(nbox, pbox, boundary, level_start, leaf_size, fanout, e_start
             out[k + j] = out[base + j]
         k += counts[t]
         stats += t_stats[t]
-    return _test_edges(r_start, r_faces, rest, 0, rest.size, p0, nrm, unit, light, l32, thr, directional, out, k,
+    return _test_edges(r_start, r_faces, rest, 0, rest.size, p0, nrm, plane, light, l32, thr, directional, out, k,
                        stats)  # fmt: skip
 
 
-PRETEST_MARGIN = 2.0**-20  # the float32 pre-test's threshold, relative to |scaled d|_1 (see pretest)
+PRETEST_MARGIN = 2.0**-20  # the pre-test's threshold, relative to the scale of its values (see pretest)
+PRETEST_RANGE = 2.0**300  # lights whose scale is outside [1 / PRETEST_RANGE, PRETEST_RANGE] are not pre-tested
 
 
-def pretest(light: Light) -> tuple[np.ndarray, np.float32]:
-    """The float32 light and threshold of the compiled query's pre-test of a face (:func:`_test_edges`).
+def pretest(light: Light, p0_max: float) -> tuple[np.ndarray, float]:
+    """The float32 light and the threshold of the compiled query's pre-test of a face (:func:`_test_edges`).
 
-    A directional light's ``d`` is scaled by a power of two (exact) to ``s`` with largest |component|
-    in ``[1/2, 1)``; the pre-test is ``w = fl32(fl32(fl32(s0 u0) + fl32(s1 u1)) + fl32(s2 u2))`` with
-    ``s`` and the face's unit normal ``u`` in float32 (:func:`.hierarchy.unit_normals`), against
-    ``thr = fl32(2**-20 S)``, ``S = |s|_1 >= 1/2``.  Why ``|w| > thr`` proves the sign of the exact
-    facing value ``v = fl(fl(fl(d0 n0) + fl(d1 n1)) + fl(d2 n2))`` and that ``v != 0``: with ``n^`` the
-    true unit normal, rounding ``s`` to float32 moves ``s . n^`` by at most ``2**-25 S`` (plus
-    ``3 * 2**-150`` where a component underflows), ``u`` is within ``2**-24`` of ``n^`` a component (so
-    ``2**-24 S (1 + 2**-24)`` more), and the float32 sum of three products errs by at most
-    ``gamma_3 = 3 * 2**-24 / (1 - 3 * 2**-24)`` of ``sum |s_i u_i| <= S (1 + 2**-24)^2``: in all under
-    ``4.6 * 2**-24 S + 2**-147``, which is below ``0.3 thr``.  So ``s . n^`` has ``w``'s sign and
-    ``|s . n^| > 0.7 * 2**-20 S``.  Then ``|d . n| = 2**e |n| |s . n^| > 0.7 * 2**-20 * 2**e |n| S``,
-    which exceeds float64's error bound for ``v`` (``gamma_3 sum |d_i n_i| <= 3.1 * 2**-53 * 2**e |n|
-    S``, plus underflow terms below ``2**-1070``: ``2**e`` and ``|n|_inf`` are both in
-    ``[2**-300, 2**300]``, so ``|d . n| > 2**-622``), so ``v`` has the same sign and is not 0.  A face
-    without a unit normal (NaN) fails both comparisons and is evaluated exactly; so is every face
-    under a light whose scale is outside ``[2**-300, 2**300]`` (``thr = inf``).  Point lights are not
-    pre-tested (``thr`` unused).
+    Each face keeps ``u``, its unit normal, and ``c = p0 . u``, in float32 (:func:`.hierarchy_build.face_planes`:
+    each ``u_i`` within ``2**-24`` of the true unit normal ``n^``'s, ``c`` within ``2**-24 |c| + 2**-47.9 |p0|_1``
+    of ``p0 . n^``).  ``|w| > thr`` proves the sign of the exact facing value ``v`` (:mod:`.hierarchy`'s
+    operation order) and that ``v != 0``:
+
+    * **Directional** ``d``, scaled by a power of two (exact) to ``s`` with largest |component| in ``[1/2, 1)``:
+      ``w = fl32(fl32(fl32(s0 u0) + fl32(s1 u1)) + fl32(s2 u2))`` with ``s`` in float32, ``thr = 2**-20 S``,
+      ``S = |s|_1 >= 1/2``.  Rounding ``s`` moves ``s . n^`` by at most ``2**-25 S`` (plus ``3 * 2**-150``
+      where a component underflows), ``u`` by ``2**-24 S (1 + 2**-24)``, and the float32 sum of three
+      products errs by ``gamma_3 = 3 * 2**-24 / (1 - 3 * 2**-24)`` of ``sum |s_i u_i| <= S (1 + 2**-24)^2``:
+      in all under ``4.6 * 2**-24 S + 2**-147 < 0.3 thr``.  So ``s . n^`` has ``w``'s sign and
+      ``|s . n^| > 0.7 thr``, and ``|d . n| = 2**e |n| |s . n^|`` exceeds float64's error bound for ``v``,
+      ``gamma_3 sum |d_i n_i| <= 3.1 * 2**-53 * 2**e |n| S`` plus underflow terms below ``2**-1070`` (``2**e``
+      and ``|n|_inf`` are in ``[2**-300, 2**300]``, so ``|d . n| > 2**-622``).
+    * **Point** ``L``: ``w = fl(fl(fl(fl(L0 u0) + fl(L1 u1)) + fl(L2 u2)) - c)`` in float64, ``thr = 2**-20 Q``,
+      ``Q = 3 |L|_inf + 5 P >= |L|_1 + 5 P`` with ``P = p0_max`` (every pre-tested face has ``|p0_i| <= P``,
+      so ``|c| <= 1.01 sqrt(3) P``).  ``L . u`` is within ``2**-24 |L|_1`` of ``L . n^``, ``c`` within
+      ``2**-24 * 1.76 P + 2**-47.9 * 3 P`` of ``p0 . n^``, and the float64 sums add ``2**-50 (|L|_1 + 1.8 P)``:
+      under ``2**-22 Q = thr / 4``.  So ``(L - p0) . n^`` has ``w``'s sign and magnitude above ``0.75 thr``,
+      while ``v``'s own error (``fl(L_i - p0_i)``, three products, two sums) is below ``2**-50.9 |n| Q``;
+      with ``Q`` and ``|n|_inf`` in ``[2**-300, 2**300]`` nothing over- or underflows.
+
+    A face with a NaN plane fails both comparisons and is evaluated exactly; so is every face under a
+    light whose ``S``'s scale ``2**e`` (directional) or ``Q`` (point) is outside ``[2**-300, 2**300]``
+    (``thr = inf``).
     """
     v = np.asarray(light.vector, dtype=np.float64)
-    if not isinstance(light, DirectionalLight):
-        return np.zeros(3, dtype=np.float32), np.float32(np.inf)
-    m = float(np.abs(v).max())
-    if not (1.0 / UNIT_RANGE <= m <= UNIT_RANGE):
-        return np.zeros(3, dtype=np.float32), np.float32(np.inf)
-    s = np.ldexp(v, -int(np.frexp(m)[1]))
-    return s.astype(np.float32), np.float32(PRETEST_MARGIN * float(np.abs(s).sum()))
+    if isinstance(light, DirectionalLight):
+        m = float(np.abs(v).max())
+        if not (1.0 / PRETEST_RANGE <= m <= PRETEST_RANGE):
+            return np.zeros(3, dtype=np.float32), math.inf
+        s = np.ldexp(v, -int(np.frexp(m)[1]))
+        return s.astype(np.float32), PRETEST_MARGIN * float(np.abs(s).sum())
+    q = 3.0 * float(np.abs(v).max()) + 5.0 * p0_max  # Python floats: an overflow is inf, silently
+    if not (1.0 / PRETEST_RANGE <= q <= PRETEST_RANGE):
+        return np.zeros(3, dtype=np.float32), math.inf
+    return np.zeros(3, dtype=np.float32), PRETEST_MARGIN * q
 
 
-__all__ = ["query_serial", "query_parallel", "pretest", "PRETEST_MARGIN", "TASK_LEVEL"]
+__all__ = ["query_serial", "query_parallel", "pretest", "PRETEST_MARGIN", "PRETEST_RANGE", "TASK_LEVEL"]
