@@ -217,3 +217,61 @@ def test_face_planes_are_within_their_stated_error_and_nan_where_untrusted():
     c = (p0[5:] * true).sum(axis=1)
     err = np.abs(plane[5:, 3].astype(np.float64) - c)
     assert (err <= 2.0**-24 * np.abs(c) + 2.0**-47 * np.abs(p0[5:]).sum(axis=1)).all()
+
+
+def _perpendicular(v: np.ndarray, rng) -> np.ndarray:
+    """Random unit vectors perpendicular to the rows of ``v``."""
+    t = np.cross(v, rng.normal(size=v.shape))
+    return t / np.linalg.norm(t, axis=1, keepdims=True)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_every_pretest_decision_is_the_exact_sign(seed):
+    # The pre-test's rule, emulated in numpy (float32 operations round as numba's do, in the same order),
+    # against the exact facing value on 40 lights x 5,000 faces, most of them within 2**-10 .. 2**-45 of the
+    # light's plane, at scales from 2**-280 to 2**280 (point lights' scenes: 2**-140 to 2**140): wherever the
+    # pre-test decides, its sign is the exact value's and that value is not 0; and it decides most faces that
+    # are not near the plane where the scales let it pre-test at all (point lights: P <= 2**100 and
+    # Q >= 2**-100; this test found that a float32 offset overflows beyond that).
+    rng = np.random.default_rng(seed)
+    for _ in range(20):
+        d = rng.normal(size=3) * 2.0 ** rng.integers(-280, 280)
+        dh = d / np.linalg.norm(d)
+        eps = np.where(rng.random(5000) < 0.8, rng.choice([-1.0, 1.0], 5000) * 2.0 ** -rng.uniform(10, 45, 5000), 1.0)
+        nrm = (_perpendicular(np.tile(dh, (5000, 1)), rng) + eps[:, None] * dh) * 2.0 ** rng.integers(
+            -280, 280, (5000, 1)
+        )
+        plane = hierarchy_build.face_planes(nrm, np.zeros_like(nrm), 0.0)
+        l32, thr = hierarchy_walk.pretest(silcount.DirectionalLight(d), 0.0)
+        u = plane[:, :3]
+        w = (l32[0] * u[:, 0] + l32[1] * u[:, 1]) + l32[2] * u[:, 2]  # float32 throughout
+        v = (d[0] * nrm[:, 0] + d[1] * nrm[:, 1]) + d[2] * nrm[:, 2]
+        decided = np.abs(w) > thr
+        assert w.dtype == np.float32 and (np.sign(w[decided]) == np.sign(v[decided])).all()
+        assert (v[decided] != 0).all() and decided[eps == 1.0].mean() > 0.99
+    tested = 0
+    for _ in range(20):
+        scale = 2.0 ** rng.integers(-140, 140)
+        p0 = rng.normal(size=(5000, 3)) * scale
+        L = rng.normal(size=3) * scale * 4.0
+        n = rng.normal(size=(5000, 3))
+        n /= np.linalg.norm(n, axis=1, keepdims=True)
+        t = _perpendicular(n, rng)
+        eps = np.where(rng.random(5000) < 0.8, rng.choice([-1.0, 1.0], 5000) * 2.0 ** -rng.uniform(10, 45, 5000), 1.0)
+        p0[:4000] = L - (t[:4000] + eps[:4000, None] * n[:4000]) * scale  # faces whose plane passes near L
+        nrm = n * 2.0 ** rng.integers(-280, 280, (5000, 1))
+        p0_max = float(np.abs(p0).max())
+        plane = hierarchy_build.face_planes(nrm, p0, p0_max)
+        _, thr = hierarchy_walk.pretest(silcount.PointLight(L), p0_max)
+        w = ((L[0] * plane[:, 0] + L[1] * plane[:, 1]) + L[2] * plane[:, 2]) - plane[:, 3]  # float64
+        a = L - p0
+        v = (a[:, 0] * nrm[:, 0] + a[:, 1] * nrm[:, 1]) + a[:, 2] * nrm[:, 2]
+        decided = np.abs(w) > thr
+        assert w.dtype == np.float64 and (np.sign(w[decided]) == np.sign(v[decided])).all()
+        assert (v[decided] != 0).all()
+        if np.isfinite(thr):  # the light's and the faces' scales let it pre-test (hierarchy_walk.pretest)
+            tested += 1
+            assert decided[4000:].mean() > 0.99
+        else:
+            assert not decided.any()
+    assert tested >= 5

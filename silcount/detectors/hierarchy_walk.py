@@ -258,11 +258,14 @@ def pretest(light: Light, p0_max: float) -> tuple[np.ndarray, float]:
       ``2**-24 * 1.76 P + 2**-47.9 * 3 P`` of ``p0 . n^``, and the float64 sums add ``2**-50 (|L|_1 + 1.8 P)``:
       under ``2**-22 Q = thr / 4``.  So ``(L - p0) . n^`` has ``w``'s sign and magnitude above ``0.75 thr``,
       while ``v``'s own error (``fl(L_i - p0_i)``, three products, two sums) is below ``2**-50.9 |n| Q``;
-      with ``Q`` and ``|n|_inf`` in ``[2**-300, 2**300]`` nothing over- or underflows.
+      with ``Q`` and ``|n|_inf`` in ``[2**-300, 2**300]`` nothing over- or underflows in float64.  ``c`` is a
+      float32: point lights are pre-tested only when ``P <= 2**100`` (so ``|c| < 2**102``, far from float32's
+      overflow) and ``Q >= 2**-100`` (so the absolute error of a ``c`` or ``u_i`` rounded into float32's
+      subnormal range, at most ``2**-150``, stays below ``2**-30 thr``).
 
     A face with a NaN plane fails both comparisons and is evaluated exactly; so is every face under a
-    light whose ``S``'s scale ``2**e`` (directional) or ``Q`` (point) is outside ``[2**-300, 2**300]``
-    (``thr = inf``).
+    light whose ``S``'s scale ``2**e`` (directional) is outside ``[2**-300, 2**300]``, or whose ``Q`` (point)
+    is outside ``[2**-100, 2**300]`` or ``P > 2**100`` (``thr = inf``).
     """
     v = np.asarray(light.vector, dtype=np.float64)
     if isinstance(light, DirectionalLight):
@@ -272,7 +275,7 @@ def pretest(light: Light, p0_max: float) -> tuple[np.ndarray, float]:
         s = np.ldexp(v, -int(np.frexp(m)[1]))
         return s.astype(np.float32), PRETEST_MARGIN * float(np.abs(s).sum())
     q = 3.0 * float(np.abs(v).max()) + 5.0 * p0_max  # Python floats: an overflow is inf, silently
-    if not (1.0 / PRETEST_RANGE <= q <= PRETEST_RANGE):
+    if not (2.0**-100 <= q <= PRETEST_RANGE and p0_max <= 2.0**100):  # c's float32 range (see above)
         return np.zeros(3, dtype=np.float32), math.inf
     return np.zeros(3, dtype=np.float32), PRETEST_MARGIN * q
 
