@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
@@ -67,19 +67,23 @@ def _frame(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return lo2, QUANT / np.where(span > 0.0, span, 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _cell(p0, a, b, lo2, scale, c):  # pragma: no cover - compiled
+    """Axis ``c``'s grid cell of ``p0(a) + p0(b)`` (0 for a non-finite value)."""
+    q = (p0[a, c] + p0[b, c] - lo2[c]) * scale[c]
+    return np.uint64(q) if np.isfinite(q) else np.uint64(0)
+
+
+@njit(cache=True, parallel=True)
 def _keys(p0, nrm, f1, f2, lo2, scale):  # pragma: no cover - compiled
     """5-D Z-order codes of ``p0(f1) + p0(f2)`` and the direction of ``n1 + n2``, as :func:`key_naive` computes."""
     T = f1.size
     keys = np.empty(T, dtype=np.uint64)
-    cell = np.empty(3, dtype=np.uint64)
-    for i in range(T):
+    for i in prange(T):
         a, b = f1[i], f2[i]
-        for c in range(3):
-            q = (p0[a, c] + p0[b, c] - lo2[c]) * scale[c]
-            cell[c] = np.uint64(q) if np.isfinite(q) else np.uint64(0)
         nx, ny = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], QUANT_N)
-        keys[i] = interleave5(cell[0], cell[1], cell[2], nx, ny)
+        keys[i] = interleave5(_cell(p0, a, b, lo2, scale, 0), _cell(p0, a, b, lo2, scale, 1),
+                              _cell(p0, a, b, lo2, scale, 2), nx, ny)  # fmt: skip
     return keys
 
 

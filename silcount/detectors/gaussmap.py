@@ -35,7 +35,7 @@ and is not counted (``docs/counting.md``).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
@@ -58,12 +58,12 @@ STYLE = ("#7b4ea3", "^")  # colour, marker in figures
 QUANT = float((1 << 20) - 1)  # (q + 1) * QUANT lies in [0, 2**21 - 2] for q in [-1, 1]
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def _keys(nrm, f1, f2, quant):  # pragma: no cover - compiled
     """Z-order codes of the octahedral cells of the arcs' points ``n1 + n2``, with :func:`key_naive`'s arithmetic."""
     T = f1.size
     keys = np.empty(T, dtype=np.uint64)
-    for i in range(T):
+    for i in prange(T):
         a, b = f1[i], f2[i]
         cx, cy = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], quant)
         keys[i] = interleave2(cx, cy)

@@ -72,6 +72,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.base import add_scaled
@@ -207,20 +208,32 @@ def n_leaves(nodes: np.ndarray) -> int:
 
 def split_edges(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
     """The tree's edge ids (every face finite; ``None`` when that is every edge) and the others (``rest``)."""
-    finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
-    if finite.all():
+    if np.isfinite(mesh.face_p0).all() and np.isfinite(mesh.face_normals).all():  # the common case, at once
         return None, np.zeros(0, dtype=np.int64)
+    finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
     start, order = mesh.edge_sides
     bad = np.add.reduceat((~finite[mesh.side_face[order]]).astype(np.int64), start[:-1]) > 0
     return np.flatnonzero(~bad), np.flatnonzero(bad)
 
 
+@njit(cache=True, parallel=True)
+def _first_two_faces(start, order, side_face, ids, every):  # pragma: no cover - compiled
+    """:func:`key_faces` of every edge (``every``) or of ``ids``, in parallel."""
+    T = start.size - 1 if every else ids.size
+    f1, f2 = np.empty(T, dtype=np.int64), np.empty(T, dtype=np.int64)
+    for i in prange(T):
+        e = np.int64(i) if every else ids[i]
+        s = start[e]
+        f1[i] = side_face[order[s]]
+        f2[i] = side_face[order[s + 1 if start[e + 1] - s > 1 else s]]
+    return f1, f2
+
+
 def key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """Each tree edge's key faces: its first two sides' faces (a boundary edge's one face twice)."""
     start, order = mesh.edge_sides
-    first = start[:-1] if ids is None else start[ids]
-    second = first + (mesh.edge_valence > 1 if ids is None else mesh.edge_valence[ids] > 1)
-    return mesh.side_face[order[first]], mesh.side_face[order[second]]
+    every = ids is None
+    return _first_two_faces(start, order, mesh.side_face, np.zeros(0, dtype=np.int64) if every else ids, every)
 
 
 def tree_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

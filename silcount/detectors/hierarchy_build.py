@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from silcount.detectors.hierarchy import (
     DIGIT_BITS,
@@ -55,45 +55,51 @@ def _radix_argsort(keys, n_bits, digit_bits):  # pragma: no cover - compiled
     return idx
 
 
-@njit(cache=True, inline="always")
-def _number(f, nxt, local, p0, nrm, lp0, lnrm):  # pragma: no cover - compiled
-    """Face ``f`` becomes local face ``nxt``, its ``p0`` and normal copied there; the next free number."""
-    local[f] = nxt
-    for c in range(3):
-        lp0[nxt, c] = p0[f, c]
-        lnrm[nxt, c] = nrm[f, c]
-    return nxt + 1
-
-
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def _renumber(perm, every, ids, start, sides, side_face, p0, nrm):  # pragma: no cover - compiled
     """Sorted edge ids, their face CSR in local face ids, and ``p0`` and normals in local order.
 
     ``perm`` sorts the tree's edges: every edge (``every``) or ``ids``; edge ``e``'s faces are
     ``side_face[sides[start[e]:start[e + 1]]]`` (read in place: no copy of the 2E face references).
+    Faces are numbered in the order the sorted edges first reach them, then the faces no tree edge
+    reaches (a non-finite value).  The gathers run in parallel; only the numbering, a forward pass over
+    the gathered face ids, is serial.
     """
     T, F = perm.size, p0.shape[0]
     order = np.empty(T, dtype=np.int64)
     e_start = np.empty(T + 1, dtype=np.int64)
     e_start[0] = 0
-    local = np.full(F, -1, dtype=np.int32)
-    lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
-    e_faces = np.empty(sides.size, dtype=np.int32)
-    nxt, w = 0, 0
-    for i in range(T):
+    for i in prange(T):  # the sorted edges and their face counts
         e = perm[i] if every else ids[perm[i]]
         order[i] = e
+        e_start[i + 1] = start[e + 1] - start[e]
+    for i in range(T):
+        e_start[i + 1] += e_start[i]
+    e_faces = np.empty(e_start[T], dtype=np.int32)
+    for i in prange(T):  # their faces' global ids, in sorted order
+        e, w = order[i], e_start[i]
         for q in range(start[e], start[e + 1]):
-            f = side_face[sides[q]]
-            if local[f] < 0:
-                nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
-            e_faces[w] = local[f]
+            e_faces[w] = side_face[sides[q]]
             w += 1
-        e_start[i + 1] = w
-    for f in range(F):  # faces no tree edge reaches (a non-finite value)
+    local = np.full(F, -1, dtype=np.int32)
+    nxt = 0
+    for w in range(e_faces.size):  # first reach numbers a face; the CSR then holds local ids
+        f = e_faces[w]
         if local[f] < 0:
-            nxt = _number(f, nxt, local, p0, nrm, lp0, lnrm)
-    return order, e_start, e_faces[:w], local, lp0, lnrm
+            local[f] = nxt
+            nxt += 1
+        e_faces[w] = local[f]
+    for f in range(F):
+        if local[f] < 0:
+            local[f] = nxt
+            nxt += 1
+    lp0, lnrm = np.empty_like(p0), np.empty_like(nrm)
+    for f in prange(F):  # p0 and normals copied into local order
+        n = local[f]
+        for c in range(3):
+            lp0[n, c] = p0[f, c]
+            lnrm[n, c] = nrm[f, c]
+    return order, e_start, e_faces, local, lp0, lnrm
 
 
 @njit(cache=True, inline="always")
@@ -106,15 +112,16 @@ def _widen(b, lo, hi):  # pragma: no cover - compiled
             b[3 + c] = hi[c]
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def _level_bounds(e_start, e_faces, nrm, p0, level_start, leaf_size, fanout, nbox, pbox, boundary):  # pragma: no cover
     """Every node's boxes and boundary flag in level order: the leaves from their edges' faces, then
-    each level up from its children, in order (the counted build's values, compare for compare)."""
+    each level up from its children, in order (the counted build's values, compare for compare); the
+    nodes of a level in parallel."""
     D = level_start.size - 1
     T = e_start.size - 1
     for lvl in range(D - 1, -1, -1):
         first, size = level_start[lvl], level_start[lvl + 1] - level_start[lvl]
-        for j in range(size):
+        for j in prange(size):
             nb, pb = nbox[first + j], pbox[first + j]
             nb[:3] = np.inf
             pb[:3] = np.inf
@@ -137,10 +144,10 @@ def _level_bounds(e_start, e_faces, nrm, p0, level_start, leaf_size, fanout, nbo
             boundary[first + j] = flag
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def _face_planes(nrm, p0, plane, lo, hi, p_max):  # pragma: no cover - compiled
     """:func:`face_planes` into ``plane`` (NaN rows where untrusted), without temporaries."""
-    for f in range(nrm.shape[0]):
+    for f in prange(nrm.shape[0]):
         m = max(abs(nrm[f, 0]), abs(nrm[f, 1]), abs(nrm[f, 2]))
         big = max(abs(p0[f, 0]), abs(p0[f, 1]), abs(p0[f, 2]))
         if not (lo <= m <= hi and big <= p_max):  # NaN fails too
