@@ -275,3 +275,35 @@ def test_every_pretest_decision_is_the_exact_sign(seed):
         else:
             assert not decided.any()
     assert tested >= 5
+
+
+def _interleave_by_bits(cells: list[int], bits: int) -> int:
+    """A Z-order code bit by bit: bit b of cell i goes to position len(cells) * b + i."""
+    return sum(((c >> b) & 1) << (len(cells) * b + i) for b in range(bits) for i, c in enumerate(cells))
+
+
+def test_the_z_order_codes_are_the_bit_by_bit_interleaving():
+    from silcount.detectors import morton
+
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        c5 = [int(x) for x in rng.integers(0, 4096, 5)]
+        c2 = [int(x) for x in rng.integers(0, 1 << 21, 2)]
+        c3 = [int(x) for x in rng.integers(0, 1 << 21, 3)]
+        assert int(morton.interleave5(*(np.uint64(c) for c in c5))) == _interleave_by_bits(c5, 12)
+        assert int(morton.interleave2(*(np.uint64(c) for c in c2))) == _interleave_by_bits(c2, 21)
+        assert int(morton.interleave3(*(np.uint64(c) for c in c3))) == _interleave_by_bits(c3, 21)
+    top = [np.uint64(4095)] * 5
+    assert int(morton.interleave5(*top)) == (1 << 60) - 1
+
+
+def test_the_cones_frame_box_is_numpys_min_and_max():
+    rng = np.random.default_rng(4)
+    p = rng.normal(size=(1000, 3)) * 1e3
+    p[10, 1] = np.inf
+    p[20, 2] = -np.inf
+    for arr in (p, np.vstack([p, [[np.nan, 0.0, 1.0]]])):
+        lo, hi = cones._box(arr)
+        assert np.array_equal(lo, arr.min(axis=0), equal_nan=True) and np.array_equal(
+            hi, arr.max(axis=0), equal_nan=True
+        )

@@ -87,10 +87,29 @@ def _keys(p0, nrm, f1, f2, lo2, scale):  # pragma: no cover - compiled
     return keys
 
 
+@njit(cache=True)
+def _box(p):  # pragma: no cover - compiled
+    """Per axis the smallest and largest of ``p``'s rows, NaN where any is NaN (as numpy's ``min``, ``max``)."""
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    nan = np.zeros(3, dtype=np.bool_)
+    for i in range(p.shape[0]):
+        for c in range(3):
+            v = p[i, c]
+            nan[c] |= v != v
+            if v < lo[c]:
+                lo[c] = v
+            if v > hi[c]:
+                hi[c] = v
+    for c in range(3):
+        if nan[c]:
+            lo[c] = hi[c] = np.nan
+    return lo, hi
+
+
 def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
     """The edges' 5-D keys (position in the box of every ``p0``, normal direction), compiled."""
     p0 = mesh.face_p0
-    lo2, scale = _frame(p0.min(axis=0), p0.max(axis=0))
+    lo2, scale = _frame(*_box(p0))
     return _keys(p0, mesh.face_normals, f1, f2, lo2, scale)
 
 
