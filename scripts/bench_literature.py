@@ -13,12 +13,14 @@ On the mesh of bench_detectors.py (1,043,264 faces with 3 rounds), in one run:
   the reference kernel on one thread too (context: both kernels are parallel on a mesh this size);
 * edges tested per query (``steps['edge_test']``) over E;
 * the build (best of 3, the mesh's cached edge table, sides, p0 and normals
-  warmed first), its ratio to one reference query, the break-even number of
+  and the reference's per-mesh arrays warmed first), its ratio to one reference query, the break-even number of
   lights (build / (reference query - hierarchy query)), ``tree.nbytes``, and the
   peak of the allocations traced by ``tracemalloc`` during a separate build
   (numpy and numba arrays both go through the traced allocator), against the
   mesh's memory (``vertices + corners + face_start + edges``); tracemalloc was
   chosen over RSS: it sees exactly the build's allocations, shared pages aside;
+  and the first fill of a fresh array the size of the tree's planes, allocated
+  by numpy and by the compiled runtime (numpy advises huge pages from 4 MiB);
 * a leaf_size x fanout sweep of both schemes, then a table of targets.
 
 Timings on a shared 2-core machine are noisy: read the ratios, not the digits.
@@ -97,6 +99,42 @@ def _even(build: float, ref: float, query: float) -> str:
     return f"{build / (ref - query):7.1f}" if ref > query else "  never"
 
 
+@numba.njit(cache=True, parallel=True)
+def _fill(a):  # pragma: no cover - compiled
+    for i in numba.prange(a.shape[0]):
+        for c in range(4):
+            a[i, c] = 1.0
+
+
+@numba.njit(cache=True, parallel=True)
+def _new_filled(n):  # pragma: no cover - compiled
+    a = np.empty((n, 4), dtype=np.float32)
+    for i in numba.prange(n):
+        for c in range(4):
+            a[i, c] = 1.0
+    return a
+
+
+def fresh_fill_figures(n: int) -> dict:
+    """First touch of a fresh array: numpy's allocation (huge-page advice at 4 MiB and more) against numba's."""
+    _fill(np.empty((4, 4), dtype=np.float32))
+    _new_filled(4)
+    out = {"mib": n * 16 / 2**20, "numpy": float("inf"), "compiled": float("inf")}
+    for _ in range(3):
+        gc.collect()
+        t = time.perf_counter()
+        a = np.empty((n, 4), dtype=np.float32)
+        _fill(a)
+        out["numpy"] = min(out["numpy"], time.perf_counter() - t)
+        del a
+        gc.collect()
+        t = time.perf_counter()
+        b = _new_filled(n)
+        out["compiled"] = min(out["compiled"], time.perf_counter() - t)
+        del b
+    return out
+
+
 def section_literature(mesh: silcount.Mesh) -> None:
     print(f"\n== literature: gaussmap and cones vs the reference kernel on {mesh.n_faces:,} faces ==")
     _ = mesh.edges, mesh.manifold_sides, mesh.face_normals, mesh.face_p0, mesh.edge_sides, mesh.side_face
@@ -167,7 +205,7 @@ def section_literature(mesh: silcount.Mesh) -> None:
         line = "   ".join(
             f"{k:5s} {_pct(float(np.median(q[name, k]['frac'])))} / {_pct(max(q[name, k]['frac']))}" for k in kinds
         )
-        print(f"  {name:9s} {line}   (rest edges tested every query: {trees[name].rest.size})")
+        print(f"  {name:9s} {line}   (other edges: {trees[name].order.size - trees[name].n_pairs})")
     exact = {name: sum(sum(q[name, k]["same"]) for k in kinds) for name in SCHEMES}
     print(
         "answers equal the reference (np.sort(ids) == silhouette_edge_ids): "
@@ -199,6 +237,12 @@ def section_literature(mesh: silcount.Mesh) -> None:
             f" (tree + transient {(peak[name] - trees[name].nbytes) / 2**20:.1f} MiB)"
         )
     print("  break-even = build / (reference query - hierarchy query), medians of the hierarchy's own light kind")
+    fresh = fresh_fill_figures(trees["gaussmap"].planes.shape[0])
+    print(
+        f"  a fresh (n, 4) float32 array the size of the tree's planes ({fresh['mib']:.0f} MiB) filled by a compiled "
+        f"loop, best of 3: allocated by numpy {_ms(fresh['numpy']).strip()}, by the compiled runtime "
+        f"{_ms(fresh['compiled']).strip()} (why the build allocates in its kernels)"
+    )
 
     sweep = sweep_figures(mesh, kinds, ref_ids, ref_med, mb)
     targets(speedup, build_t, ref_med, trees, peak, mb, exact, len(ls), sweep)

@@ -1,8 +1,9 @@
-"""The bounded edge tree that gaussmap and cones share: its shape, its parallel walk, its overflow guard.
+"""The bounded plane trees that gaussmap and cones share: their records, boxes, parallel walk and pre-test.
 
 The detectors' answers are held to the reference in ``test_literature.py``;
 this file checks the machinery those answers rest on, against plain
-re-derivations (a recursive tree built by hand, a serial walk).
+re-derivations (numpy's min and max over a recursive tree, a serial walk,
+the pre-test's rule emulated in numpy, the counted build).
 """
 
 from __future__ import annotations
@@ -11,63 +12,10 @@ import numpy as np
 import pytest
 
 import silcount
-from silcount.detectors import cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query, hierarchy_walk
-from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.detectors import cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query
+from silcount.detectors.adjacency import edge_faces, silhouette_edge_ids
 
-
-def recursive_preorder(n_edges: int, leaf_size: int, fanout: int) -> list[tuple[int, int, int]]:
-    """(edge lo, edge hi, depth) of every node, by an explicit recursion over the levels (root first)."""
-    sizes = hierarchy.levels(n_edges, leaf_size, fanout)
-    out: list[tuple[int, int, int]] = []
-
-    def visit(level: int, j: int, depth: int) -> None:
-        span = fanout**level
-        lo_leaf, hi_leaf = j * span, min((j + 1) * span, sizes[0])
-        out.append((lo_leaf * leaf_size, min(hi_leaf * leaf_size, n_edges), depth))
-        if level > 0:
-            for child in range(j * fanout, min((j + 1) * fanout, sizes[level - 1])):
-                visit(level - 1, child, depth + 1)
-
-    if sizes:
-        visit(len(sizes) - 1, 0, 0)
-    return out
-
-
-@pytest.mark.parametrize("n_edges", [1, 2, 7, 8, 9, 33, 64, 65, 200])
-@pytest.mark.parametrize("leaf_size, fanout", [(1, 2), (3, 3), (8, 4), (2, 5)])
-def test_shape_is_the_preorder_of_the_level_tree(n_edges, leaf_size, fanout):
-    nodes, depth = hierarchy.shape(n_edges, leaf_size, fanout)
-    expected = recursive_preorder(n_edges, leaf_size, fanout)
-    assert [tuple(r) for r in nodes[:, :2].tolist()] == [(lo, hi) for lo, hi, _ in expected]
-    assert depth.tolist() == [d for _, _, d in expected]
-    for i, (_, _, d) in enumerate(expected):  # skip: the first later node not inside this subtree
-        after = next((j for j in range(i + 1, len(expected)) if expected[j][2] <= d), len(expected))
-        assert nodes[i, 2] == after
-    leaves = [i for i in range(len(nodes)) if nodes[i, 2] == i + 1]
-    assert hierarchy.n_leaves(nodes) == len(leaves)
-    spans = [tuple(nodes[i, :2]) for i in leaves]  # the leaves tile the edges in order
-    assert spans[0][0] == 0 and spans[-1][1] == n_edges
-    assert all(a[1] == b[0] for a, b in zip(spans, spans[1:]))
-
-
-@pytest.mark.parametrize("n_edges", [1, 2, 7, 9, 33, 65, 200])
-@pytest.mark.parametrize("leaf_size, fanout", [(1, 2), (3, 3), (8, 4), (2, 5)])
-def test_level_slots_number_each_level_from_its_first_node(n_edges, leaf_size, fanout):
-    # the recursion's nodes, grouped by depth in preorder, are each level's nodes left to right
-    nodes, depth = hierarchy.shape(n_edges, leaf_size, fanout)
-    level_of, level_start = hierarchy.level_slots(nodes, depth, n_edges, leaf_size, fanout)
-    expected = recursive_preorder(n_edges, leaf_size, fanout)
-    by_level = sorted(range(len(expected)), key=lambda i: (expected[i][2], expected[i][0]))
-    assert sorted(level_of.tolist()) == list(range(len(expected)))
-    assert [int(level_of[i]) for i in by_level] == list(range(len(expected)))
-    assert np.diff(level_start).tolist() == hierarchy.levels(n_edges, leaf_size, fanout)[::-1]
-
-
-def test_an_empty_tree_has_no_nodes():
-    nodes, depth = hierarchy.shape(0, 8, 4)
-    assert nodes.shape == (0, 3) and depth.size == 0
-
-
+SCHEMES = pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
 LIGHTS = [
     silcount.DirectionalLight((0.3, 0.5, 0.8)),
     silcount.DirectionalLight((0.0, 0.0, 1.0)),
@@ -76,32 +24,107 @@ LIGHTS = [
 ]
 
 
+@pytest.mark.parametrize("n_edges", [0, 1, 2, 7, 8, 9, 33, 64, 65, 200])
+@pytest.mark.parametrize("leaf_size, fanout", [(1, 2), (3, 3), (8, 4), (2, 5)])
+def test_level_starts_count_each_levels_ancestors(n_edges, leaf_size, fanout):
+    # Leaf j's ancestor d levels up is j // K**d; a level holds the distinct ancestors of the leaves, and the
+    # root level is the first with one.
+    leaves = range(-(-n_edges // leaf_size))
+    sizes = []
+    while leaves:
+        d = len(sizes)
+        sizes.append(len({j // fanout**d for j in leaves}))
+        if sizes[-1] == 1:
+            break
+    starts = hierarchy.level_starts(n_edges, leaf_size, fanout, 5)
+    assert starts[0] == 5 and np.diff(starts).tolist() == sizes[::-1]
+    assert hierarchy.levels(n_edges, leaf_size, fanout) == sizes
+
+
+def numpy_boxes(rows: list[np.ndarray], lv: np.ndarray, leaf_size: int, fanout: int) -> np.ndarray:
+    """Every node's box by numpy over its edges' face planes (``rows[e]``: edge e's rows), root level first;
+    ``[-inf, inf]`` where a plane below is NaN."""
+    D = lv.size - 1
+    out = []
+    for level in range(D):
+        span = leaf_size * fanout ** (D - 1 - level)
+        for j in range(int(lv[level + 1] - lv[level])):
+            p = np.vstack(rows[j * span : (j + 1) * span])
+            if np.isnan(p).any():
+                out.append(np.r_[np.full(4, -np.inf), np.full(4, np.inf)])
+            else:
+                out.append(np.r_[p.min(axis=0), p.max(axis=0)])
+    return np.array(out, dtype=np.float32).reshape(-1, 8)
+
+
+def overflowing_mesh():
+    """Coordinates of 1e160: the first face's normal (1e320) overflows, so its plane is NaN."""
+    big = 1e160
+    v = np.array([[0, 0, 0], [big, 0, 0], [0, big, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], dtype=np.float64)
+    return silcount.from_polygons(v, [[0, 1, 2], [3, 4, 5], [0, 3, 4], [0, 4, 1]])
+
+
+@pytest.mark.parametrize("mesh_name", ["icosphere2", "plane", "overflowing"])
+@pytest.mark.parametrize("leaf_size, fanout", [(1, 2), (3, 3), (8, 4)])
+@SCHEMES
+def test_records_and_boxes_are_the_meshs_planes_in_leaf_order(mesh_name, leaf_size, fanout, scheme):
+    # Each tree edge's rows are its faces' planes in side order (the mesh's own edge table), the leaf order
+    # is a permutation of the edges (two-faced ones first), and every node's box is numpy's min and max over
+    # the planes below it (NaN below: the whole line); the other tree's flags mark one-faced edges below.
+    mesh = overflowing_mesh() if mesh_name == "overflowing" else silcount.builtin_mesh(mesh_name)
+    with np.errstate(over="ignore", invalid="ignore"):
+        tree = hierarchy_build.build_fast(mesh, scheme, leaf_size, fanout)
+        p0, nrm = edge_faces(mesh)[:2]
+        plane = hierarchy_build.face_planes(nrm, p0, hierarchy_build.trusted_p0_max(p0))
+    start, sides = mesh.edge_sides
+    faces_of = [mesh.side_face[sides[start[e] : start[e + 1]]] for e in range(mesh.n_edges)]
+    T2 = tree.n_pairs
+    assert sorted(tree.order.tolist()) == list(range(mesh.n_edges))
+    assert all(len(faces_of[e]) == 2 for e in tree.order[:T2]) and all(len(faces_of[e]) != 2 for e in tree.order[T2:])
+    rows = [tree.planes[2 * i : 2 * i + 2] for i in range(T2)]
+    other = 2 * T2 + tree.other_start
+    rows += [tree.planes[other[i] : other[i + 1]] for i in range(tree.order.size - T2)]
+    for e, r in zip(tree.order, rows):
+        assert np.array_equal(r, plane[faces_of[e]], equal_nan=True)
+    assert np.array_equal(tree.box[tree.pair_levels[0] : tree.pair_levels[-1]],
+                          numpy_boxes(rows[:T2], tree.pair_levels, leaf_size, fanout))  # fmt: skip
+    assert np.array_equal(tree.box[tree.other_levels[0] : tree.other_levels[-1]],
+                          numpy_boxes(rows[T2:], tree.other_levels, leaf_size, fanout))  # fmt: skip
+    assert not tree.boundary[: tree.pair_levels[-1]].any()
+    first_leaf = int(tree.other_levels[-2]) if tree.other_levels.size > 1 else 0
+    for j in range(int(tree.other_levels[-1]) - first_leaf):
+        edges = tree.order[T2 + j * leaf_size : T2 + (j + 1) * leaf_size]
+        assert tree.boundary[first_leaf + j] == any(len(faces_of[e]) == 1 for e in edges)
+    if mesh_name == "overflowing":
+        assert np.isnan(tree.planes[:, 0]).any() and np.isinf(tree.box).any()
+
+
 @pytest.mark.parametrize("mesh_name", ["torus", "icosphere3", "plane", "quad_cube"])
-@pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
+@SCHEMES
 def test_the_parallel_walk_equals_the_serial_one(monkeypatch, mesh_name, scheme):
     """Subtrees walked in parallel (forced on small trees) give the serial walk's ids in order, and its steps."""
     mesh = silcount.builtin_mesh(mesh_name)
-    tree = hierarchy_build.build_fast(mesh, scheme, 2, 2)  # deep enough for many depth-3 tasks
+    tree = hierarchy_build.build_fast(mesh, scheme, 2, 2)  # deep enough for many tasks
     for light in LIGHTS:
         serial = hierarchy_query.query_fast(mesh, tree, light)
         monkeypatch.setattr(hierarchy_query, "PARALLEL_NODES", 0)
         parallel = hierarchy_query.query_fast(mesh, tree, light)
         monkeypatch.undo()
-        assert np.array_equal(serial[0], parallel[0])  # the same order: tasks are compacted in preorder
+        assert np.array_equal(serial[0], parallel[0])  # the same order: the runs are compacted in leaf order
         assert serial[1] == parallel[1] and serial[2] == parallel[2]
         assert np.array_equal(np.sort(serial[0]), silhouette_edge_ids(mesh, light))
 
 
-@pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
-def test_a_light_whose_offsets_could_overflow_opens_every_node_and_stays_exact(scheme):
+@SCHEMES
+def test_a_light_the_pretest_cannot_scale_opens_every_node_and_stays_exact(scheme):
     mesh = silcount.builtin_mesh("torus")
     tree = hierarchy_build.build_fast(mesh, scheme, 4, 4)
-    light = silcount.PointLight((1e308, -1e308, 3.0))
-    assert hierarchy.overflows(tree, light)
-    ids, steps, _ = hierarchy_query.query_fast(mesh, tree, light)
-    assert steps["node_test"] == tree.n_nodes  # nothing pruned
-    assert steps["edge_test"] == mesh.n_edges
-    assert np.array_equal(np.sort(ids), silhouette_edge_ids(mesh, light))
+    for light in (silcount.PointLight((1e308, -1e308, 3.0)), silcount.DirectionalLight((0.0, 1e-310, 0.0))):
+        assert hierarchy.pretest(light, tree.p0_max)[1] == np.inf
+        ids, steps, _ = hierarchy_query.query_fast(mesh, tree, light)
+        assert steps["node_test"] == tree.n_nodes  # nothing pruned
+        assert steps["edge_test"] == mesh.n_edges and steps["face_exact"] == steps["face_test"]
+        assert np.array_equal(np.sort(ids), silhouette_edge_ids(mesh, light))
 
 
 def test_tree_for_is_the_tree_detect_uses():
@@ -112,33 +135,33 @@ def test_tree_for_is_the_tree_detect_uses():
     assert hierarchy_query.tree_for(mesh, gaussmap.SCHEME, 2, 2) is not first
 
 
-@pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
-@pytest.mark.parametrize("overflowing", [False, True])
-def test_the_compiled_build_is_the_counted_build_array_for_array(scheme, overflowing):
-    # The fast build reads each edge's faces in place and frees its temporaries early; the tree it
-    # returns must still be the naive build's, every array, the non-finite faces' ``rest`` included
-    # (coordinates of 1e160: the first face's normal, 1e320, overflows; test_literature.py's mesh).
+@SCHEMES
+@pytest.mark.parametrize("mesh_name", ["icosphere2", "overflowing", "open"])
+def test_the_compiled_build_is_the_counted_build_array_for_array(scheme, mesh_name):
+    # The fast build parks face ids in its planes and frees its temporaries early; the tree it returns must
+    # still be the naive build's, every array, the NaN planes of a face whose normal overflows included.
     from silcount.counting.arithmetic import OpCounter
     from silcount.detectors.hierarchy_naive import build_naive
-    from silcount.mesh.model import from_polygons
 
-    if overflowing:
-        big = 1e160
-        v = np.array([[0, 0, 0], [big, 0, 0], [0, big, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], dtype=np.float64)
-        mesh = from_polygons(v, [[0, 1, 2], [3, 4, 5], [0, 3, 4], [0, 4, 1]])
+    if mesh_name == "overflowing":
+        mesh = overflowing_mesh()
+    elif mesh_name == "open":  # boundary edges: an other tree with flags
+        mesh = silcount.from_polygons(silcount.builtin_mesh("quad_cube").vertices,
+                                      [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6]])  # fmt: skip
     else:
-        mesh = silcount.builtin_mesh("icosphere2")
-    with np.errstate(over="ignore", invalid="ignore"):  # the overflowing normal, as in test_literature.py
+        mesh = silcount.builtin_mesh(mesh_name)
+    with np.errstate(over="ignore", invalid="ignore"):
         fast = hierarchy_build.build_fast(mesh, scheme, 3, 3)
         naive = build_naive(mesh, scheme, 3, 3, OpCounter())
-    assert (fast.rest.size > 0) == overflowing
     for name, value in vars(fast).items():
         if isinstance(value, np.ndarray):
+            assert value.dtype == getattr(naive, name).dtype, name
             assert np.array_equal(value, getattr(naive, name), equal_nan=value.dtype.kind == "f"), name
+    assert fast.p0_max == naive.p0_max and fast.n_pairs == naive.n_pairs
     assert fast.build_steps == naive.build_steps and fast.build_tally == naive.build_tally
 
 
-# ---- the compiled query's float32 pre-test (hierarchy_walk.pretest) -------------------------------------
+# ---- the pre-test (hierarchy.pretest) -----------------------------------------------------------------------
 def _grazing(mesh):
     """Each sampled face's unit normal, a unit tangent, its ``p0`` and the offsets 2**-k (k = 18 .. 40, both
     sides) and 0 from its plane: the pre-test's float32 sign is wrong or 0 for many such lights."""
@@ -159,36 +182,33 @@ def grazing_points(mesh, reach=(3.0,)) -> list:
     return [silcount.PointLight(p + r * (t + e * n)) for n, t, p, e in _grazing(mesh) for r in reach]
 
 
-def exact_everywhere(light, p0_max):
-    """What :func:`hierarchy_walk.pretest` returns for a light it cannot pre-test: every face exact."""
-    return np.zeros(3, dtype=np.float32), np.inf
-
-
 @pytest.mark.parametrize("mesh_name", ["icosphere3", "torus", "quad_cube"])
-@pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
-def test_the_pretest_changes_no_answer_step_or_tie(monkeypatch, mesh_name, scheme):
+@SCHEMES
+def test_grazing_lights_at_every_scale_get_the_reference_edges(mesh_name, scheme):
     # Lights grazing the faces (directional ones scaled from 2**-310, not pre-tested, to 2**290; point lights
-    # from 1e-3 to 1e80 away): each query equals the one that evaluates every face exactly, in ids (order
-    # included), steps and ties, and has the reference's edges.
+    # from 1e-3 to 1e80 away): every query, which prunes nodes and decides faces by the pre-test, has the
+    # reference's edges; and the pre-test decided most faces of the lights it could scale.
     mesh = silcount.builtin_mesh(mesh_name)
     tree = hierarchy_build.build_fast(mesh, scheme, 2, 2)
     lights = grazing_lights(mesh, scales=(1.0, 2.0**-290, 3.0 * 2.0**290, 2.0**-310))
     lights += grazing_points(mesh, reach=(1e-3, 1.0, 3.0, 1e80))
-    with_pretest = [hierarchy_query.query_fast(mesh, tree, light) for light in lights]
-    monkeypatch.setattr(hierarchy_query, "pretest", exact_everywhere)
-    for light, got in zip(lights, with_pretest):
-        exact = hierarchy_query.query_fast(mesh, tree, light)
-        assert np.array_equal(got[0], exact[0]) and got[1:] == exact[1:], light
-        assert np.array_equal(np.sort(got[0]), silhouette_edge_ids(mesh, light)), light
+    decided = []
+    for light in lights:
+        ids, steps, _ = hierarchy_query.query_fast(mesh, tree, light)
+        assert np.array_equal(np.sort(ids), silhouette_edge_ids(mesh, light)), light
+        if np.isfinite(hierarchy.pretest(light, tree.p0_max)[1]):
+            decided.append(1 - steps["face_exact"] / max(steps["face_test"], 1))
+    assert np.median(decided) > 0.5  # the quad cube's lights in a face's plane leave its faces undecided
 
 
-@pytest.mark.parametrize("kind, margin", [("dir", 0.0), ("dir", 2.0**-25), ("point", 0.0), ("point", 2.0**-27)])
+@pytest.mark.parametrize("kind, margin", [("dir", 0.0), ("dir", 2.0**-25), ("point", 0.0), ("point", 2.0**-28)])
 def test_a_loosened_pretest_margin_is_caught(monkeypatch, kind, margin):
-    # The proofs need a margin of about 2**-21.8 (hierarchy_walk.pretest; the query uses 2**-20).  With none,
-    # or with one near float32's typical error, a face within that error of its plane is taken as proved, and
-    # some grazing light gets a wrong edge set: of these 1,000 lights, directional 194 at 0 and 7 at 2**-25;
-    # point 302 at 0 and 14 at 2**-27.  Margins of 2**-24 (directional) and 2**-26 (point) are not caught:
-    # the proofs' bounds are worst cases these lights do not reach.
+    # The proofs need a margin of about 2**-21.8 (hierarchy.pretest; the query uses 2**-20).  With none, or
+    # with one near float32's typical error, a face within that error of its plane is taken as proved (and a
+    # node with such faces as pruned), and some grazing light gets a wrong edge set: of these 1,000 lights,
+    # directional 194 at 0 and 7 at 2**-25; point 302 at 0 and 29 at 2**-28.  Margins of 2**-24
+    # (directional) and 2**-27 (point) are not caught: the proofs' bounds are worst cases these lights do
+    # not reach.
     mesh = silcount.builtin_mesh("icosphere3")
     tree = hierarchy_build.build_fast(mesh, gaussmap.SCHEME, 2, 2)
     lights = grazing_lights(mesh) if kind == "dir" else grazing_points(mesh)
@@ -199,7 +219,7 @@ def test_a_loosened_pretest_margin_is_caught(monkeypatch, kind, margin):
                                       silhouette_edge_ids(mesh, light))]  # fmt: skip
 
     assert wrong() == []
-    monkeypatch.setattr(hierarchy_walk, "PRETEST_MARGIN", margin)
+    monkeypatch.setattr(hierarchy, "PRETEST_MARGIN", margin)
     assert wrong()
 
 
@@ -208,15 +228,29 @@ def test_face_planes_are_within_their_stated_error_and_nan_where_untrusted():
     nrm = rng.normal(size=(2000, 3)) * np.exp2(rng.integers(-290, 290, size=(2000, 1)))
     p0 = rng.normal(size=(2000, 3)) * 100.0
     nrm[:4] = [[0.0, 0.0, 0.0], [np.inf, 0.0, 1.0], [2.0**-301, 0.0, 0.0], [2.0**301, 1.0, 0.0]]
-    p0[4] = [1e3, 0.0, 0.0]  # beyond p0_max
-    plane = hierarchy_build.face_planes(nrm, p0, 500.0)
-    assert plane.dtype == np.float32 and plane.shape == (2000, 4) and np.isnan(plane[:5]).all()
-    m = np.abs(nrm[5:]).max(axis=1, keepdims=True)
-    true = (nrm[5:] / m) / np.linalg.norm(nrm[5:] / m, axis=1, keepdims=True)
-    assert np.abs(plane[5:, :3].astype(np.float64) - true).max() <= 2.0**-24
-    c = (p0[5:] * true).sum(axis=1)
-    err = np.abs(plane[5:, 3].astype(np.float64) - c)
-    assert (err <= 2.0**-24 * np.abs(c) + 2.0**-47 * np.abs(p0[5:]).sum(axis=1)).all()
+    p0[4] = [1e5, 0.0, 0.0]  # |p0|_1 beyond p0_max
+    p0[5] = [np.nan, 0.0, 0.0]
+    plane = hierarchy_build.face_planes(nrm, p0, 1e4)
+    assert plane.dtype == np.float32 and plane.shape == (2000, 4) and np.isnan(plane[:6]).all()
+    true = nrm[6:] / np.linalg.norm(nrm[6:], axis=1, keepdims=True)
+    assert np.abs(plane[6:, :3].astype(np.float64) - true).max() <= 2.0**-24
+    c = (p0[6:] * true).sum(axis=1)
+    err = np.abs(plane[6:, 3].astype(np.float64) - c)
+    assert (err <= 2.0**-24 * np.abs(c) + 2.0**-47 * np.abs(p0[6:]).sum(axis=1)).all()
+    assert hierarchy_build.trusted_p0_max(p0) == 1e5  # row 4's |p0|_1; row 5's NaN never wins
+    p0[4] = [2.0**101, 0.0, 0.0]  # beyond 2**100: no plane, whatever p0_max a caller passes
+    assert hierarchy_build.trusted_p0_max(p0) == np.abs(np.delete(p0, [4, 5], axis=0)).sum(axis=1).max()
+
+
+def test_a_directional_threshold_is_a_float32_no_smaller_than_the_margin():
+    rng = np.random.default_rng(6)
+    for _ in range(200):
+        d = rng.normal(size=3) * 2.0 ** rng.integers(-200, 200)
+        s, thr = hierarchy.pretest(silcount.DirectionalLight(d), 0.0)
+        scale = np.abs(d).max()
+        exact = hierarchy.PRETEST_MARGIN * float(np.abs(d / 2.0 ** np.frexp(scale)[1]).sum())
+        assert float(np.float32(thr)) == thr and exact <= thr <= exact * (1 + 2.0**-23)
+        assert np.array_equal(s, (d / 2.0 ** np.frexp(scale)[1]).astype(np.float32))
 
 
 def _perpendicular(v: np.ndarray, rng) -> np.ndarray:
@@ -231,8 +265,8 @@ def test_every_pretest_decision_is_the_exact_sign(seed):
     # against the exact facing value on 40 lights x 5,000 faces, most of them within 2**-10 .. 2**-45 of the
     # light's plane, at scales from 2**-280 to 2**280 (point lights' scenes: 2**-140 to 2**140): wherever the
     # pre-test decides, its sign is the exact value's and that value is not 0; and it decides most faces that
-    # are not near the plane where the scales let it pre-test at all (point lights: P <= 2**100 and
-    # Q >= 2**-100; this test found that a float32 offset overflows beyond that).
+    # are not near the plane where the scales let it pre-test at all (point lights: Q >= 2**-100; a face gets a
+    # plane only with |p0|_1 within 2**100: this test once found a float32 offset overflowing beyond that).
     rng = np.random.default_rng(seed)
     for _ in range(20):
         d = rng.normal(size=3) * 2.0 ** rng.integers(-280, 280)
@@ -242,11 +276,11 @@ def test_every_pretest_decision_is_the_exact_sign(seed):
             -280, 280, (5000, 1)
         )
         plane = hierarchy_build.face_planes(nrm, np.zeros_like(nrm), 0.0)
-        l32, thr = hierarchy_walk.pretest(silcount.DirectionalLight(d), 0.0)
+        s, thr = hierarchy.pretest(silcount.DirectionalLight(d), 0.0)
         u = plane[:, :3]
-        w = (l32[0] * u[:, 0] + l32[1] * u[:, 1]) + l32[2] * u[:, 2]  # float32 throughout
+        w = (s[0] * u[:, 0] + s[1] * u[:, 1]) + s[2] * u[:, 2]  # float32 throughout
         v = (d[0] * nrm[:, 0] + d[1] * nrm[:, 1]) + d[2] * nrm[:, 2]
-        decided = np.abs(w) > thr
+        decided = np.abs(w).astype(np.float64) > thr
         assert w.dtype == np.float32 and (np.sign(w[decided]) == np.sign(v[decided])).all()
         assert (v[decided] != 0).all() and decided[eps == 1.0].mean() > 0.99
     tested = 0
@@ -260,21 +294,39 @@ def test_every_pretest_decision_is_the_exact_sign(seed):
         eps = np.where(rng.random(5000) < 0.8, rng.choice([-1.0, 1.0], 5000) * 2.0 ** -rng.uniform(10, 45, 5000), 1.0)
         p0[:4000] = L - (t[:4000] + eps[:4000, None] * n[:4000]) * scale  # faces whose plane passes near L
         nrm = n * 2.0 ** rng.integers(-280, 280, (5000, 1))
-        p0_max = float(np.abs(p0).max())
+        p0_max = hierarchy_build.trusted_p0_max(p0)
         plane = hierarchy_build.face_planes(nrm, p0, p0_max)
-        _, thr = hierarchy_walk.pretest(silcount.PointLight(L), p0_max)
+        _, thr = hierarchy.pretest(silcount.PointLight(L), p0_max)
         w = ((L[0] * plane[:, 0] + L[1] * plane[:, 1]) + L[2] * plane[:, 2]) - plane[:, 3]  # float64
         a = L - p0
         v = (a[:, 0] * nrm[:, 0] + a[:, 1] * nrm[:, 1]) + a[:, 2] * nrm[:, 2]
         decided = np.abs(w) > thr
         assert w.dtype == np.float64 and (np.sign(w[decided]) == np.sign(v[decided])).all()
         assert (v[decided] != 0).all()
-        if np.isfinite(thr):  # the light's and the faces' scales let it pre-test (hierarchy_walk.pretest)
+        trusted = ~np.isnan(plane[:, 0])  # faces beyond |p0|_1 = 2**100 get no plane
+        assert not decided[~trusted].any()
+        if np.isfinite(thr) and trusted[4000:].all():  # the light's and the faces' scales let it pre-test
             tested += 1
             assert decided[4000:].mean() > 0.99
-        else:
+        elif not np.isfinite(thr):
             assert not decided.any()
     assert tested >= 5
+
+
+def test_the_counted_pretest_is_the_pretest():
+    from silcount.counting.arithmetic import OpCounter, plain
+    from silcount.detectors.hierarchy_naive import pretest_naive
+
+    rng = np.random.default_rng(8)
+    lights = [silcount.DirectionalLight(rng.normal(size=3) * 2.0 ** rng.integers(-320, 320)) for _ in range(100)]
+    lights += [silcount.PointLight(rng.normal(size=3) * 2.0 ** rng.integers(-320, 320)) for _ in range(100)]
+    for light in lights:
+        for p0_max in (0.0, 3.5, 2.0**99):
+            s, thr = hierarchy.pretest(light, p0_max)
+            counter = OpCounter()
+            s2, thr2 = pretest_naive(light, p0_max, counter)
+            assert np.array_equal(s, np.array(s2, dtype=np.float32)) and thr == float(plain(thr2))
+            assert dict(counter) == hierarchy.setup_cost(light.is_directional, bool(np.isfinite(thr)))
 
 
 def _interleave_by_bits(cells: list[int], bits: int) -> int:
@@ -297,13 +349,24 @@ def test_the_z_order_codes_are_the_bit_by_bit_interleaving():
     assert int(morton.interleave5(*top)) == (1 << 60) - 1
 
 
-def test_the_cones_frame_box_is_numpys_min_and_max():
+def test_the_cones_offset_frame_is_numpys_over_the_trusted_faces():
     rng = np.random.default_rng(4)
-    p = rng.normal(size=(1000, 3)) * 1e3
-    p[10, 1] = np.inf
-    p[20, 2] = -np.inf
-    for arr in (p, np.vstack([p, [[np.nan, 0.0, 1.0]]])):
-        lo, hi = cones._box(arr)
-        assert np.array_equal(lo, arr.min(axis=0), equal_nan=True) and np.array_equal(
-            hi, arr.max(axis=0), equal_nan=True
-        )
+    plane = rng.normal(size=(1000, 4)).astype(np.float32)
+    plane[10] = np.nan
+    lo2, scale = cones.setup(plane)
+    c = plane[~np.isnan(plane[:, 3]), 3].astype(np.float64)
+    assert lo2 == 2 * c.min() and scale == cones.QUANT / (2 * c.max() - 2 * c.min())
+    assert cones.setup(np.full((3, 4), np.nan, dtype=np.float32))[1] == cones.QUANT  # no trusted face: a flat frame
+
+
+@SCHEMES
+def test_keys_pack_the_row_below_the_key(scheme):
+    mesh = silcount.builtin_mesh("icosphere2")
+    p0, nrm, _, pair_faces = edge_faces(mesh)[:4]
+    plane = hierarchy_build.face_planes(nrm, p0, hierarchy_build.trusted_p0_max(p0))
+    bits = hierarchy_build.index_bits(pair_faces.shape[0])
+    keys = scheme.fast(plane, pair_faces, scheme.setup(plane), bits)
+    assert np.array_equal(keys & np.uint64((1 << bits) - 1), np.arange(keys.size, dtype=np.uint64))
+    assert int((keys >> np.uint64(bits)).max()) < 1 << scheme.bits
+    pos = hierarchy_build.sorted_positions(keys.copy(), scheme.bits, bits)
+    assert np.array_equal(pos, np.argsort(keys >> np.uint64(bits), kind="stable"))

@@ -27,8 +27,14 @@ from silcount.mesh.model import Mesh
 _PRECOMPUTED: "weakref.WeakKeyDictionary[Mesh, tuple]" = weakref.WeakKeyDictionary()
 
 
-def _precompute(mesh: Mesh) -> tuple:
-    """Per-mesh arrays of the fast query (cached): p0, normals, two-sided edges' faces, the rest as CSR."""
+def edge_faces(mesh: Mesh) -> tuple:
+    """Per-mesh arrays of the fast query, cached with the mesh and shared by every detector that needs them.
+
+    ``(p0, normals, two_ids, pair_faces, other, o_start, o_faces)``: each face's ``p0`` and normal
+    (contiguous float64); the ids of the edges with exactly two faces (``None`` when that is every edge)
+    and their two faces in side order (uint32, one row each); the other edges' ids and their faces as a
+    CSR (``o_start``, ``o_faces``), in side order.
+    """
     got = _PRECOMPUTED.get(mesh)
     if got is None:
         two = mesh.edge_valence == 2
@@ -217,7 +223,7 @@ def _pair_bits_kernel(bits, pair_faces, n_lights):  # pragma: no cover - compile
 def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> tuple[np.ndarray, int]:
     """Light-facing flags and ties (of all faces, or of ``faces``), computed as
     :func:`~silcount.detectors.base.counted_visibility` does, in its operation order."""
-    p0, nrm = _precompute(mesh)[:2]
+    p0, nrm = edge_faces(mesh)[:2]
     if faces is not None:
         p0, nrm = p0[faces], nrm[faces]
     directional = isinstance(light, DirectionalLight)
@@ -248,7 +254,7 @@ def shared_facing_flags(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
 
 def edge_ids_of(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
     """Ids of the edges with exactly one light-facing incident face, ascending: the reference rule."""
-    _, _, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)
+    _, _, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     ids = _pair_kernel(is_facing, pair_faces)
     return _with_other_edges(two_ids, ids, other, o_start, None if two_ids is None else is_facing[o_faces])
 
@@ -283,7 +289,7 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
     faces' words, and each set bit is a silhouette edge of that light.  Boundary
     and non-manifold edges count their faces' bits per light.
     """
-    p0, nrm, two_ids, pair_faces, other, o_start, o_faces = _precompute(mesh)
+    p0, nrm, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     out = []
     for lo in range(0, len(lights), BATCH):
         batch = lights[lo : lo + BATCH]

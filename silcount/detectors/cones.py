@@ -1,4 +1,4 @@
-"""The spatialized normal-cone hierarchy: Johnson and Cohen, I3D 2001, Sec. 3; Sander et al., SIGGRAPH 2000, Sec. 3.
+"""The spatialized normal-cone hierarchy: Johnson & Cohen, I3D 2001, Sec. 3; Sander et al., SIGGRAPH 2000, Sec. 3.
 
 A tree over clusters of edges; each node keeps a bound on its faces'
 positions and one on their normals, so that a single test proves "no
@@ -9,22 +9,26 @@ at the cluster.  Point and directional lights.
 
 silcount's reading
 ------------------
-* **Clusters** are ``leaf_size`` consecutive edges in the 5-D Z-order of
-  the point ``p0(f1) + p0(f2)`` (the first vertices of the edge's two faces,
-  12 bits per axis of the mesh's box) and of the direction of ``n1 + n2``
-  (its octahedral-map cell, 12 bits per axis), grouped ``fanout`` at a time
-  up to one root (:mod:`.hierarchy`): a tree clustered by position and
-  normal at once, as Johnson and Cohen's spatialized normal cones are,
-  built bottom-up.  (A key of position alone tested about three times as
-  many edges on the 1.04 M-face bunny: 15 % of E against 5-8 %.)
-* **The bounds** are axis-aligned boxes of the faces' normals (the cone's
-  bounding box) and of their ``p0``.  A cone test needs the angle between
-  the light and the cone's axis, whose rounding would need its own error
-  margin; the boxes' test is exact in floating point (proof in
-  :mod:`.hierarchy`), so the answer is exactly the ``reference`` edge set,
-  ties, grazing lights and lights in a face's plane included.  A box holds
-  its cone, so it prunes no node a cone would keep and may keep some a cone
-  would prune: the counts are, if anything, this hierarchy's worst.
+* **What a position bound is for.**  Whether a face faces a point light
+  ``L`` depends on its plane alone: its unit normal ``u`` and its offset
+  ``c = p0 . u`` (``L . u > c``).  A face's position along its plane does not
+  enter the test; its position across it, ``c``, does.  So silcount bounds a
+  cluster by the box of its faces' planes: the box of their unit normals
+  (which holds the normal cone) and the interval of their offsets (the
+  anchored cone's position bound, in the one coordinate the test reads).
+* **Clusters** are ``leaf_size`` consecutive edges in the 3-D Z-order of the
+  edge's two faces' planes summed: the octahedral-map cell of ``u1 + u2``
+  (8 bits per axis) and the cell of ``c1 + c2`` in the mesh's range of
+  offsets (8 bits); grouped ``fanout`` at a time up to one root
+  (:mod:`.hierarchy`): a tree clustered by normal and position at once, as
+  Johnson and Cohen's spatialized normal cones are, built bottom-up.  (On
+  the 1.04 M-face bunny, a key of the faces' first vertices and normal
+  direction, 5-D, reached 1.6x as many leaves per point light.)
+* **The test** is exact in floating point (proof in :mod:`.hierarchy`), so
+  the answer is exactly the ``reference`` edge set, ties, grazing lights and
+  lights in a face's plane included.  A box of normals holds their cone and
+  an offset interval holds every offset a sphere would allow, so the box
+  prunes no node the cone and sphere would keep for the faces' planes.
 
 Parameters: ``leaf_size`` (default 8) and ``fanout`` (default 4); see
 ``docs/literature.md``.  The build's own tally is in ``notes['build']``.
@@ -32,16 +36,15 @@ Parameters: ``leaf_size`` (default 8) and ``fanout`` (default 4); see
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
+from silcount.detectors.hierarchy_naive import read32
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
-from silcount.detectors.morton import counted_octahedral, interleave5, octahedral
+from silcount.detectors.morton import counted_octahedral, interleave3, octahedral
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -55,101 +58,104 @@ VISITED_STEP = "edge_test"
 PLAIN_QUADRATIC = False
 GROWTH_VARIANT = "intended"
 STYLE = ("#e07a1f", "v")  # colour, marker in figures
-BITS = 12  # per coordinate of the 5-D key: 3 of position, 2 of normal direction
-QUANT = float((1 << BITS) - 1)  # a position's cell: [0, QUANT]
-QUANT_N = float((1 << (BITS - 1)) - 1)  # a direction's: (p + 1) * QUANT_N in [0, 2 QUANT_N] for p in [-1, 1]
-
-
-def _frame(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``2 lo`` and the scale that maps ``[2 lo, 2 hi]`` onto ``[0, QUANT]`` (1 for a flat axis)."""
-    lo2, hi2 = lo + lo, hi + hi
-    span = hi2 - lo2
-    return lo2, QUANT / np.where(span > 0.0, span, 1.0)
-
-
-@njit(cache=True, inline="always")
-def _cell(p0, a, b, lo2, scale, c):  # pragma: no cover - compiled
-    """Axis ``c``'s grid cell of ``p0(a) + p0(b)`` (0 for a non-finite value)."""
-    q = (p0[a, c] + p0[b, c] - lo2[c]) * scale[c]
-    return np.uint64(q) if np.isfinite(q) else np.uint64(0)
-
-
-@njit(cache=True, parallel=True)
-def _keys(p0, nrm, f1, f2, lo2, scale):  # pragma: no cover - compiled
-    """5-D Z-order codes of ``p0(f1) + p0(f2)`` and the direction of ``n1 + n2``, as :func:`key_naive` computes."""
-    T = f1.size
-    keys = np.empty(T, dtype=np.uint64)
-    for i in prange(T):
-        a, b = f1[i], f2[i]
-        nx, ny = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], QUANT_N)
-        keys[i] = interleave5(_cell(p0, a, b, lo2, scale, 0), _cell(p0, a, b, lo2, scale, 1),
-                              _cell(p0, a, b, lo2, scale, 2), nx, ny)  # fmt: skip
-    return keys
+BITS = 8  # per coordinate of the 3-D key: two of normal direction, one of offset
+QUANT = float((1 << BITS) - 1)  # an offset's cell: [0, QUANT]
+QUANT_N = QUANT / 2.0  # a direction's: (p + 1) * QUANT_N in [0, QUANT] for p in [-1, 1]
 
 
 @njit(cache=True)
-def _box(p):  # pragma: no cover - compiled
-    """Per axis the smallest and largest of ``p``'s rows, NaN where any is NaN (as numpy's ``min``, ``max``)."""
-    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-    nan = np.zeros(3, dtype=np.bool_)
-    for i in range(p.shape[0]):
-        for c in range(3):
-            v = p[i, c]
-            nan[c] |= v != v
-            if v < lo[c]:
-                lo[c] = v
-            if v > hi[c]:
-                hi[c] = v
-    for c in range(3):
-        if nan[c]:
-            lo[c] = hi[c] = np.nan
+def _offset_range(plane):  # pragma: no cover - compiled
+    """The smallest and largest offset of a face with a plane, as :func:`setup_naive` (NaN loses every compare)."""
+    lo, hi = np.inf, -np.inf
+    for f in range(plane.shape[0]):
+        c = np.float64(plane[f, 3])
+        if c < lo:
+            lo = c
+        if c > hi:
+            hi = c
     return lo, hi
 
 
-def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
-    """The edges' 5-D keys (position in the box of every ``p0``, normal direction), compiled."""
-    p0 = mesh.face_p0
-    lo2, scale = _frame(*_box(p0))
-    return _keys(p0, mesh.face_normals, f1, f2, lo2, scale)
+def _frame(lo, hi) -> tuple:
+    """``2 lo`` and the scale that maps ``[2 lo, 2 hi]`` onto ``[0, QUANT]`` (``QUANT`` for a flat range), on
+    floats or counted values alike (3 A, 1 C, 1 div)."""
+    lo2, hi2 = lo + lo, hi + hi
+    span = hi2 - lo2
+    one = Num(1.0, span.counter) if isinstance(span, Num) else 1.0
+    return lo2, QUANT / (span if span > 0.0 else one)
 
 
-def setup_naive(p0: Memory, F: int, counter: OpCounter) -> tuple:
-    """The box of every stored ``p0`` (3 R, 6 C per face), then ``2 lo`` and the scale (9 A, 3 C, 3 div)."""
-    lo: list[Num | float] = [math.inf] * 3
-    hi: list[Num | float] = [-math.inf] * 3
+def setup(plane: np.ndarray) -> tuple:
+    """The offsets' frame, compiled (the same floats as :func:`setup_naive`)."""
+    lo, hi = _offset_range(plane)
+    return _frame(float(lo), float(hi))
+
+
+@njit(cache=True, inline="always")
+def _offset_cell(q):  # pragma: no cover - compiled
+    """The cell of a scaled offset: ``q`` within ``[0, QUANT]``, else the nearer end (a NaN: 0)."""
+    if q >= 0.0:
+        return np.uint64(q) if q <= QUANT else np.uint64(QUANT)
+    return np.uint64(0)
+
+
+@njit(cache=True, parallel=True)
+def _keys(plane, kf, lo2, scale, idx_bits):  # pragma: no cover - compiled
+    """3-D Z-order codes of the planes' sum (direction of ``u1 + u2``, cell of ``c1 + c2``), as :func:`key_naive`,
+    shifted left by ``idx_bits`` above the row."""
+    T = kf.shape[0]
+    keys = np.empty(T, dtype=np.uint64)
+    sh = np.uint64(idx_bits)
+    for i in prange(T):
+        a, b = kf[i, 0], kf[i, 1]
+        x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
+        y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
+        z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+        nx, ny = octahedral(x, y, z, QUANT_N)
+        q = (np.float64(plane[a, 3]) + np.float64(plane[b, 3]) - lo2) * scale
+        keys[i] = (interleave3(nx, ny, _offset_cell(q)) << sh) | np.uint64(i)
+    return keys
+
+
+def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
+    """The edges' 3-D plane keys, compiled."""
+    return _keys(plane, key_faces, consts[0], consts[1], idx_bits)
+
+
+def setup_naive(plane: Memory, F: int, counter: OpCounter) -> tuple:
+    """The offsets' range over the faces (1 R, 2 C a face), then ``2 lo`` and the scale (3 A, 1 C, 1 div)."""
+    lo, hi = Num(np.inf, counter), Num(-np.inf, counter)
     for f in range(F):
-        v = [p0[f, c] for c in range(3)]
-        lo = [x if x < m else m for x, m in zip(v, lo)]
-        hi = [x if x > m else m for x, m in zip(v, hi)]
-    lo2 = [x + x for x in lo]
-    hi2 = [x + x for x in hi]
-    span = [h - low for h, low in zip(hi2, lo2)]
-    scale = [QUANT / (s if s > 0.0 else Num(1.0, counter)) for s in span]
-    return lo2, scale
+        c = read32(plane, (f, 3), True)
+        lo = c if c < lo else lo
+        hi = c if c > hi else hi
+    return _frame(lo, hi)
 
 
-def key_naive(p0: Memory, nrm: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
-    """One edge's key on counting arithmetic (12 R, 15 A, 12 M, 5 C, 2 div).
+def key_naive(plane: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
+    """One edge's key on counting arithmetic (8 R, 11 A, 10 M, 7 C, 2 div).
 
-    Position: ``p0(f1) + p0(f2)`` (6 R, 3 A), its cell (3 A, 3 M); direction: ``n1 + n2`` (6 R, 3 A),
-    its octahedral cell (6 A, 9 M, 5 C, 2 div).
+    Direction: ``u1 + u2`` (6 R, 3 A), its octahedral cell (6 A, 9 M, 5 C, 2 div); offset: ``c1 + c2`` (2 R,
+    1 A), less ``2 lo`` (1 A), scaled (1 M), its cell (two compares, 2 C).
     """
     lo2, scale = consts
-    c = [p0[f1, k] + p0[f2, k] for k in range(3)]
-    q = [plain((c[k] - lo2[k]) * scale[k]) for k in range(3)]
-    cells = [np.uint64(x) if np.isfinite(x) else np.uint64(0) for x in q]
-    nx, ny = counted_octahedral([nrm[f1, k] + nrm[f2, k] for k in range(3)], QUANT_N)
-    return int(interleave5(cells[0], cells[1], cells[2], nx, ny))
+    u = [read32(plane, (f1, c), True) + read32(plane, (f2, c), True) for c in range(3)]
+    nx, ny = counted_octahedral(u, QUANT_N)
+    q = (read32(plane, (f1, 3), True) + read32(plane, (f2, 3), True) - lo2) * scale
+    above, below = q >= 0.0, q <= QUANT
+    cell = (np.uint64(plain(q)) if below else np.uint64(QUANT)) if above else np.uint64(0)
+    return int(interleave3(nx, ny, cell))
 
 
 SCHEME = KeyScheme(
     name=NAME,
-    bits=5 * BITS,
+    bits=3 * BITS,
+    setup=setup,
     fast=keys_fast,
     setup_naive=setup_naive,
     naive=key_naive,
-    key_cost={"read": 12, "add": 15, "mul": 12, "cmp": 5, "div": 2},
-    setup_cost=lambda F: {"read": 3 * F, "cmp": 6 * F + 3, "add": 9, "div": 3},
+    key_cost={"read": 8, "add": 11, "mul": 10, "cmp": 7, "div": 2},
+    setup_cost=lambda F, trusted: {"read": F, "cmp": 2 * F + 1, "add": 3, "div": 1},
 )
 
 

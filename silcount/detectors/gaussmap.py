@@ -10,21 +10,22 @@ silcount's reading
 ------------------
 * **The subdivided sphere** is the octahedron unfolded onto a square
   (octahedral map) and split as a quadtree: a cell is a prefix of the
-  2-D Z-order (Morton) code of 21 + 21 bits.  An arc is placed by the code
-  of its point ``n1 + n2`` (a positive combination of its ends, so on the
-  arc).  The paper's choice of subdivision is open; this one gives a cell
-  of every level in one integer.
+  2-D Z-order (Morton) code of 12 + 12 bits.  An arc is placed by the code
+  of its point ``u1 + u2`` (the sum of its ends, the faces' unit normals, so
+  on the arc).  The paper's choice of subdivision is open; this one gives a
+  cell of every level in one integer.
 * **Buckets** are ``leaf_size`` consecutive arcs in that order, grouped
   ``fanout`` at a time up to one root (:mod:`.hierarchy`); a bucket's bound
-  is the box of its arcs' end normals.  The circle "passes through" a node
-  unless the box's exact floating-point bounds prove every face below lit
-  or every face unlit (proof in :mod:`.hierarchy`), so the answer is exactly
-  the ``reference`` edge set, ties and grazing lights included.
+  is the box of its arcs' end points (the faces' float32 unit normals, with
+  their offsets).  The circle "passes through" a node unless the box proves
+  every face below lit or every face unlit (proof in :mod:`.hierarchy`), so
+  the answer is exactly the ``reference`` edge set, ties and grazing lights
+  included.
 * **Point lights** (which the Gauss map does not handle: facing then depends
-  on position) are answered exactly by the same traversal with each node's
-  box of ``p0`` added to its bound; since the buckets group edges by normal
-  only, those boxes span much of the mesh and prune little.  The counts
-  show what that fallback costs.
+  on position) are answered exactly by the same traversal, the node's bound
+  then the box of its faces' planes (normal and offset); since the buckets
+  group edges by normal only, the offsets of a bucket spread over the mesh
+  and prune less.  The counts show what that fallback costs.
 
 Parameters: ``leaf_size`` (default 8) and ``fanout`` (default 4); see
 ``docs/literature.md`` for how they were chosen.  The build's own tally is in
@@ -39,6 +40,7 @@ from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
+from silcount.detectors.hierarchy_naive import read32
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
 from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
@@ -55,40 +57,48 @@ VISITED_STEP = "edge_test"
 PLAIN_QUADRATIC = False
 GROWTH_VARIANT = "intended"
 STYLE = ("#7b4ea3", "^")  # colour, marker in figures
-QUANT = float((1 << 20) - 1)  # (q + 1) * QUANT lies in [0, 2**21 - 2] for q in [-1, 1]
+BITS = 12  # per axis of the octahedral map
+QUANT = float((1 << BITS) - 1) / 2.0  # (q + 1) * QUANT lies in [0, 2**12 - 1] for q in [-1, 1]
 
 
 @njit(cache=True, parallel=True)
-def _keys(nrm, f1, f2, quant):  # pragma: no cover - compiled
-    """Z-order codes of the octahedral cells of the arcs' points ``n1 + n2``, with :func:`key_naive`'s arithmetic."""
-    T = f1.size
+def _keys(plane, kf, idx_bits):  # pragma: no cover - compiled
+    """Z-order codes of the octahedral cells of the arcs' points ``u1 + u2``, with :func:`key_naive`'s arithmetic,
+    shifted left by ``idx_bits`` above the row."""
+    T = kf.shape[0]
     keys = np.empty(T, dtype=np.uint64)
+    sh = np.uint64(idx_bits)
     for i in prange(T):
-        a, b = f1[i], f2[i]
-        cx, cy = octahedral(nrm[a, 0] + nrm[b, 0], nrm[a, 1] + nrm[b, 1], nrm[a, 2] + nrm[b, 2], quant)
-        keys[i] = interleave2(cx, cy)
+        a, b = kf[i, 0], kf[i, 1]
+        x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
+        y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
+        z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+        cx, cy = octahedral(x, y, z, QUANT)
+        keys[i] = (interleave2(cx, cy) << sh) | np.uint64(i)
     return keys
 
 
-def keys_fast(mesh: Mesh, f1: np.ndarray, f2: np.ndarray) -> np.ndarray:
-    """Octahedral Z-order keys of the arcs ``n1 + n2`` (non-finite points, from overflowing normals: cell 0)."""
-    return _keys(mesh.face_normals, f1, f2, QUANT)
+def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
+    """Octahedral Z-order keys of the arcs ``u1 + u2`` (an untrusted face's NaN plane: cell 0)."""
+    return _keys(plane, key_faces, idx_bits)
 
 
-def key_naive(p0: Memory, nrm: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
-    """One arc's key on counting arithmetic: ``n1 + n2`` (6 R, 3 A), its octahedral cell (6 A, 9 M, 5 C, 2 div)."""
-    cx, cy = counted_octahedral([nrm[f1, c] + nrm[f2, c] for c in range(3)], QUANT)
+def key_naive(plane: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:
+    """One arc's key on counting arithmetic: ``u1 + u2`` (6 R, 3 A), its octahedral cell (6 A, 9 M, 5 C, 2 div)."""
+    u = [read32(plane, (f1, c), True) + read32(plane, (f2, c), True) for c in range(3)]
+    cx, cy = counted_octahedral(u, QUANT)
     return int(interleave2(cx, cy))
 
 
 SCHEME = KeyScheme(
     name=NAME,
-    bits=42,
+    bits=2 * BITS,
+    setup=lambda plane: (),
     fast=keys_fast,
-    setup_naive=lambda p0, F, counter: (),
+    setup_naive=lambda plane, F, counter: (),
     naive=key_naive,
     key_cost={"read": 6, "add": 9, "mul": 9, "cmp": 5, "div": 2},
-    setup_cost=lambda F: {},
+    setup_cost=lambda F, trusted: {},
 )
 
 

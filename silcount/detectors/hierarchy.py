@@ -1,4 +1,4 @@
-"""Bounded edge hierarchies: the exact, output-sensitive query that ``gaussmap`` and ``cones`` share.
+"""Bounded plane hierarchies: the exact, output-sensitive query that ``gaussmap`` and ``cones`` share.
 
 The literature's output-sensitive detectors (Gooch et al., "Interactive
 Technical Illustration", I3D 1999, Sec. 4.1; Sander et al., "Silhouette
@@ -6,104 +6,108 @@ Clipping", SIGGRAPH 2000, Sec. 3; Johnson and Cohen, "Spatialized Normal
 Cone Hierarchies", I3D 2001, Sec. 3) all keep a tree over clusters of edges
 whose nodes carry bounds that prove "no silhouette edge below here" for a
 whole set of lights.  They differ in how the edges are clustered: by their
-arcs on the Gauss sphere (:mod:`.gaussmap`) or by position (:mod:`.cones`).
-This module is the rest: the tree, its bounds and its counted build cost (the compiled build is
-:mod:`.hierarchy_build`, the query :mod:`.hierarchy_query` over the kernels of :mod:`.hierarchy_walk`,
-the counted engine :mod:`.hierarchy_naive`).
+arcs on the Gauss sphere (:mod:`.gaussmap`) or by their faces' planes, normal
+and offset (:mod:`.cones`).  This module is the rest: the tree, the rule that
+decides a face and a node, and the counted build's cost.  The compiled build
+is :mod:`.hierarchy_build`, the compiled query :mod:`.hierarchy_walk` (glue in
+:mod:`.hierarchy_query`), and both on counting arithmetic :mod:`.hierarchy_naive`.
+
+A face's plane
+--------------
+Whether face ``f`` faces a light depends only on its plane: its unit normal
+``u`` and offset ``c = p0 . u``.  Each face keeps both in float32
+(:func:`.hierarchy_build.face_planes`), 16 bytes.  Under a light, the face's
+float32 *pre-test* value is ``w = fl32(fl32(fl32(s0 u0) + fl32(s1 u1)) + fl32(s2 u2))``
+for a directional light (``s``: the direction scaled by a power of two,
+rounded to float32) and ``w = fl(fl(fl(fl(L0 u0) + fl(L1 u1)) + fl(L2 u2)) - c)``
+in float64 for a point light ``L``.  :func:`pretest` gives the threshold
+``thr`` for the light and proves: **if ``|w| > thr``, the exact facing value
+``v`` (``d . n`` or ``(L - p0) . n`` in float64, in the reference's operation
+order) has ``w``'s sign and is not 0.**  Otherwise ``v`` itself is evaluated
+(from the mesh's float64 ``p0`` and normal), as the reference does.  A face
+whose plane cannot be trusted (a zero, tiny, huge or non-finite normal, a
+``|p0|_1`` beyond ``2**100``) keeps a NaN plane, which fails every
+comparison: it is always evaluated exactly.
 
 The tree
 --------
-The edges are sorted by a key the caller gives (a Z-order code, see
-:class:`KeyScheme`), cut into leaves of ``leaf_size`` consecutive edges, and
-``fanout`` consecutive nodes of one level make a node of the next, up to one
-root.  The nodes are numbered in depth-first preorder, each with the range of
-edge positions below it and a skip to the node after its subtree, so that
-the counted query is one forward pass that jumps over what it prunes
-(:func:`shape`).  Every node keeps two axis-aligned boxes over the faces of
-the edges below it: of their normals ``n = (p1 - p0) x (p2 - p0)`` and of
-their first vertices ``p0``, exactly the values
-:func:`~silcount.detectors.adjacency.facing_flags` uses, and whether a
-boundary edge (one face) is below it.  The boxes and flags are stored in
-level order (the root, then each level from its first node), where a node's
-children are adjacent and node ``j`` of a level has children ``j K .. j K +
-K - 1`` on the next: the compiled query walks them level by level, reading
-each level forwards (:mod:`.hierarchy_query`); ``level_of`` maps a preorder
-number to its level-order slot.  A leaf's edge is
-tested by the reference rule (exactly one of its faces lit), so boundary
-and non-manifold edges are in the tree like the others.  The faces are
-renumbered in the order the sorted edges first reach them and their ``p0``
-and normals copied in that order, so that a leaf's edges read neighbouring
-memory.
+The edges with exactly two faces (almost all, on a manifold mesh) and the
+others (boundary and non-manifold edges) are two trees over one leaf order:
+each sorted by the key its detector gives (a Z-order code, :class:`KeyScheme`),
+cut into leaves of ``leaf_size`` consecutive edges, and grouped ``fanout``
+nodes at a time up to one root per tree.  A two-faced edge keeps its id and
+its two faces' planes side by side (a leaf is one run of memory, 36 bytes an
+edge); the others keep theirs as a CSR.  A face evaluated exactly is found
+through the mesh's own edge-to-side table.  Every node keeps the box of its
+faces' planes (``u`` and ``c``, lo and hi: eight float32, 32 bytes) in level
+order (each tree's root, then each level from its first node), where node
+``j`` of a level has children ``j K .. j K + K - 1`` on the next; a node with
+an untrusted face below it has the box ``[-inf, inf]``.  A node of the other
+tree also records whether a one-faced edge is below it.
 
 Why the prune test is exact
 ---------------------------
-A face is light-facing iff ``fl(fl(fl(a0 n0) + fl(a1 n1)) + fl(a2 n2)) > 0``
-with ``a = L - p0`` (``fl(L_i - p0_i)``) or ``a = d``, in this operation
-order.  In IEEE arithmetic with rounding to nearest, ``fl(x + y)`` is
-non-decreasing in each argument, ``fl(x * y)`` is monotone in each argument
-for the other fixed, and ``fl(L - x)`` is non-increasing in ``x``.  So over
-a box of ``p0`` and a box of ``n`` every rounded term ``fl(a_i n_i)`` lies
-between the smallest and the largest of its values at the box's corners
-(``fl`` of the exact extreme, which a product takes at a corner), and the
-rounded sum lies between the same sums of those corner extremes, computed
-in the same order.  If that lower bound is ``> 0`` every face below the
-node faces the light; if the upper bound is ``<= 0`` none does.  With no
-face lit no edge below has exactly one lit face; with every face lit only a
-boundary edge does, so the subtree is skipped unless a boundary edge is
-below it; no epsilon is involved, and a node is opened
-whenever the bounds do not decide.  Overflow to infinity keeps every
-monotonicity; a NaN (``inf - inf`` in a sum) makes both comparisons false,
-which only opens the node.  Faces whose normal or ``p0`` is not finite
-(an overflowing cross product) are never boxed: their edges go to ``rest``,
-tested on every query.
+Over a node's box, the lower bound ``lb`` of its faces' pre-test values is
+the pre-test's own arithmetic applied to, per axis, the smaller of
+``fl(s_i lo_i)`` and ``fl(s_i hi_i)`` (minus ``c``'s upper bound, for a point
+light), in the same order; ``ub`` likewise with the larger ones (minus ``c``'s
+lower bound).  Rounding to nearest is monotone: ``fl(x y)`` lies between its
+values at the interval's ends, and ``fl(x + y)`` and ``fl(x - y)`` are
+monotone in each argument, so ``lb <= w <= ub`` for every face below.  If
+``lb > thr``, every face below has ``w > thr``, so every exact ``v`` is ``> 0``:
+all faces are lit; if ``ub < -thr``, all are unlit.  With no face lit no edge
+below has exactly one lit face; with every face lit only a one-faced edge
+does, so the subtree is skipped unless one is below.  A box of
+``[-inf, inf]`` gives ``lb`` of ``-inf`` or NaN and ``ub`` of ``inf`` or NaN, which
+decide nothing; nor does any light :func:`pretest` cannot scale
+(``thr = inf``): every node is then opened and every face evaluated exactly.
+No epsilon is involved beyond the pre-test's own proven margin.
 
 Costs
 -----
 The ``naive`` engine builds the tree and runs the query on counting
 arithmetic; the ``fast`` engine builds it with compiled kernels and counts
-the query's steps in the compiled traversal, charging each step the cost
-the naive engine executes for it (docs/counting.md, "gaussmap and cones").
-The build is tallied apart from the query (``notes['build']``).
+the query's steps in the compiled walk, charging each step what the naive
+engine executes for it (docs/counting.md, "gaussmap and cones").  The build
+is tallied apart from the query (``notes['build']``).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.base import add_scaled
 from silcount.mesh.lights import DirectionalLight, Light
-from silcount.mesh.model import Mesh
 
 LEAF_SIZE = 8
 FANOUT = 4
-DIGIT_BITS = 11  # the radix sort's digit: 2048 buckets, four passes for 42 bits, six for 63
+DIGIT_BITS = 12  # the radix sort's widest digit: 4096 buckets, two passes for the keys' 24 bits
+UNIT_RANGE = 2.0**300  # normals with a largest |component| outside [1 / UNIT_RANGE, UNIT_RANGE] get no plane
+P_RANGE = 2.0**100  # faces with a |p0| coordinate beyond get no plane (the offset stays far from float32's range)
+PRETEST_MARGIN = 2.0**-20  # the pre-test's threshold, relative to the scale of its values (see pretest)
+PRETEST_RANGE = 2.0**300  # lights whose scale is outside [1 / PRETEST_RANGE, PRETEST_RANGE] are not pre-tested
+TASK_LEVEL = 3  # the compiled query walks the subtrees rooted on this level in parallel (64 with fan-out 4)
 
 
 @dataclass(eq=False)
 class Hierarchy:
-    """A bounded tree over a mesh's edges (see the module docstring); faces are numbered locally."""
+    """Two bounded trees over a mesh's edges in one leaf order (see the module docstring)."""
 
-    order: np.ndarray  # (T,) int64: the tree's edge ids in leaf order
-    edge_start: np.ndarray  # (T + 1,) int64: CSR of their faces (local ids) in ``edge_faces``
-    edge_faces: np.ndarray  # (sum of valences,) int32
-    nodes: np.ndarray  # (N, 3) int64, preorder (root 0): the subtree's edge positions lo, hi; its skip
-    level_of: np.ndarray  # (N,) int64: the level-order slot of each preorder node (root 0)
-    level_start: np.ndarray  # (D + 1,) int64: each level's first slot, root level first
-    nbox: np.ndarray  # (N, 6) float64, level order: the normal box, lo (3) then hi (3)
-    pbox: np.ndarray  # (N, 6) float64, level order: the p0 box, lo (3) then hi (3)
-    boundary: np.ndarray  # (N,) bool, level order: a boundary edge is below the node
-    rest: np.ndarray  # (R,) int64: edges with a non-finite face, tested on every query
-    rest_start: np.ndarray  # (R + 1,) int64: CSR of their faces (local ids)
-    rest_faces: np.ndarray  # int32
-    p0: np.ndarray  # (F, 3) float64: each local face's first vertex
-    nrm: np.ndarray  # (F, 3) float64: each local face's normal
-    plane: np.ndarray  # (F, 4) float32: each local face's unit normal and offset, NaN where untrusted
-    p0_max: float  # largest |p0| coordinate in the tree (the query's overflow guard)
+    order: np.ndarray  # (T,) int32: edge ids in leaf order, the n_pairs two-faced edges first
+    n_pairs: int
+    planes: np.ndarray  # (2 n_pairs + S, 4) float32: each pair edge's two faces' planes u0 u1 u2 c, in side
+    # order, then the other edges' faces' planes as a CSR (NaN rows: untrusted)
+    other_start: np.ndarray  # (T - n_pairs + 1,) int64: the other edges' CSR offsets into planes, from 2 n_pairs
+    box: np.ndarray  # (N, 8) float32, level order (pair tree, then other tree): u, c lo; u, c hi
+    pair_levels: np.ndarray  # (Dp + 1,) int64: each level's first slot in box, root first (empty tree: [0])
+    other_levels: np.ndarray  # (Do + 1,) int64, the same for the other tree (its slots follow the pair tree's)
+    boundary: np.ndarray  # (N,) bool: a one-faced edge is below the node
+    p0_max: float  # largest |p0|_1 of a face with a plane (the point pre-test's P)
     leaf_size: int
     fanout: int
     build_steps: dict[str, int]
@@ -111,40 +115,38 @@ class Hierarchy:
 
     @property
     def n_nodes(self) -> int:
-        return int(self.nodes.shape[0])
-
-    @property
-    def bounds(self) -> np.ndarray:
-        """(N, 12), level order: normal box lo, hi, then p0 box lo, hi (a copy of ``nbox`` and ``pbox``)."""
-        return np.hstack([self.nbox, self.pbox])
+        return int(self.box.shape[0])
 
     @property
     def nbytes(self) -> int:
-        """Bytes of every array the tree holds (its own copies of ``p0`` and the normals included)."""
+        """Bytes of every array the tree holds."""
         return int(sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray)))
 
 
 @dataclass(frozen=True)
 class KeyScheme:
-    """How a detector orders its edges: the key of each tree edge, in both engines, and its counted costs.
+    """How a detector orders its edges: each edge's key from its two key faces' planes, in both engines.
 
-    An edge's key is computed from two of its faces ``f1``, ``f2`` (its first two sides' faces; a
-    boundary edge's one face twice).  ``fast(mesh, f1, f2)``: uint64 keys, vectorised or compiled;
-    ``setup_naive(p0, F, counter)``: per-mesh constants from the stored ``p0`` (counted);
-    ``naive(p0, nrm, f1, f2, consts, counter)``: one key on counting arithmetic, the same integer;
-    ``key_cost``: what ``naive`` executes per key; ``setup_cost(F)``: what ``setup_naive`` executes.
+    An edge's key faces are its first two sides' faces (a one-faced edge's face twice).
+    ``setup(planes)``: per-mesh constants from the ``(F, 4)`` float32 planes (compiled);
+    ``fast(planes, key_faces, consts, idx_bits)``: the uint64 keys of the edges whose key faces are the
+    rows of ``key_faces`` (n x 2, uint32), each shifted left by ``idx_bits`` with the row in the low bits
+    (compiled); ``setup_naive(planes, F, counter)`` and
+    ``naive(planes, fa, fb, consts, counter)``: the same constants and one key on counting arithmetic
+    (``planes`` a :class:`Memory`); ``key_cost`` and ``setup_cost(F, trusted)``: what those execute.
     """
 
     name: str
     bits: int
-    fast: Callable[[Mesh, np.ndarray, np.ndarray], np.ndarray]
+    setup: Callable[[np.ndarray], tuple]
+    fast: Callable[..., np.ndarray]
     setup_naive: Callable[[Memory, int, OpCounter], tuple]
-    naive: Callable[[Memory, Memory, int, int, tuple, OpCounter], int]
+    naive: Callable[[Memory, int, int, tuple, OpCounter], int]
     key_cost: dict[str, int]
-    setup_cost: Callable[[int], dict[str, int]]
+    setup_cost: Callable[[int, int], dict[str, int]]
 
 
-# ---- the tree's shape and edges (shared by both engines) ------------------------------------------------
+# ---- the trees' shape ------------------------------------------------------------------------------------
 def levels(n_edges: int, leaf_size: int, fanout: int) -> list[int]:
     """Node counts per level, leaves first, up to the root (empty for no edges)."""
     if n_edges == 0:
@@ -155,139 +157,147 @@ def levels(n_edges: int, leaf_size: int, fanout: int) -> list[int]:
     return sizes
 
 
-def shape(n_edges: int, leaf_size: int, fanout: int) -> tuple[np.ndarray, np.ndarray]:
-    """The tree over ``n_edges`` sorted edges in depth-first preorder (root first, a node before its subtree).
-
-    ``nodes[i]``: the subtree's edge positions ``lo, hi`` and its ``skip``, the node after the
-    subtree, so that a query is one forward pass that jumps over pruned subtrees; node ``i`` is a
-    leaf iff ``skip == i + 1``.  ``depth``: 0 at the root.
-    """
-    sizes = levels(n_edges, leaf_size, fanout)
-    if not sizes:
-        return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
-    start, end, depth = [], [], []
-    n_leaves = sizes[0]
-    for level, size in enumerate(sizes):  # node j of a level covers leaves [j K^level, (j + 1) K^level)
-        span = fanout**level
-        own = np.arange(size, dtype=np.int64)
-        start.append(own * span)
-        end.append(np.minimum(own * span + span, n_leaves))
-        depth.append(np.full(size, len(sizes) - 1 - level, dtype=np.int64))
-    starts, ends, depths = (np.concatenate(x) for x in (start, end, depth))
-    pre = np.lexsort((depths, starts))  # by first leaf, ancestors before descendants
-    starts, ends, depths = starts[pre], ends[pre], depths[pre]
-    nodes = np.empty((starts.size, 3), dtype=np.int64)
-    nodes[:, 0] = starts * leaf_size
-    nodes[:, 1] = np.minimum(ends * leaf_size, n_edges)
-    nodes[:, 2] = np.searchsorted(starts, ends, side="left")
-    return nodes, depths
-
-
-def level_slots(nodes: np.ndarray, depth: np.ndarray, n_edges: int, leaf_size: int,
-                fanout: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """The level-order slot of each preorder node, and each level's first slot (root level first).
-
-    Node ``j`` of level ``l`` (``l = 0`` at the root) is slot ``level_start[l] + j``; its children are
-    slots ``level_start[l + 1] + j K ..`` on the next level, its leaves ``j K**(D - 1 - l) ..``.
-    """
+def level_starts(n_edges: int, leaf_size: int, fanout: int, first: int = 0) -> np.ndarray:
+    """Each level's first slot, root level first, from slot ``first``; the last entry ends the tree."""
     sizes = levels(n_edges, leaf_size, fanout)[::-1]
-    level_start = np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)]).astype(np.int64)
-    if not sizes:
-        return np.zeros(0, dtype=np.int64), level_start
-    span = np.asarray(fanout, dtype=np.int64) ** (len(sizes) - 1 - depth)  # leaves below a node of each depth
-    return level_start[depth] + nodes[:, 0] // leaf_size // span, level_start
+    return (first + np.concatenate([[0], np.cumsum(sizes, dtype=np.int64)])).astype(np.int64)
 
 
-UNIT_RANGE = 2.0**300  # normals with a largest |component| outside [1 / UNIT_RANGE, UNIT_RANGE] get no unit normal
+def digit_bits(n: int) -> int:
+    """The radix sort's digit for ``n`` keys: ``log2 n`` bits, at most :data:`DIGIT_BITS` (a pass costs about
+    ``n + 2**bits``, so a small tree does not pay for thousands of empty buckets)."""
+    return min(DIGIT_BITS, max(1, (n - 1).bit_length()))
 
 
-def n_leaves(nodes: np.ndarray) -> int:
-    """How many of the preorder ``nodes`` are leaves (``skip == i + 1``)."""
-    return int(np.count_nonzero(nodes[:, 2] == np.arange(1, nodes.shape[0] + 1)))
+def sort_passes(n: int, key_bits: int) -> int:
+    """The radix sort's passes over ``n`` keys of ``key_bits`` bits (none for no key)."""
+    return -(-key_bits // digit_bits(n)) if n else 0
 
 
-def split_edges(mesh: Mesh) -> tuple[np.ndarray | None, np.ndarray]:
-    """The tree's edge ids (every face finite; ``None`` when that is every edge) and the others (``rest``)."""
-    if np.isfinite(mesh.face_p0).all() and np.isfinite(mesh.face_normals).all():  # the common case, at once
-        return None, np.zeros(0, dtype=np.int64)
-    finite = np.isfinite(mesh.face_p0).all(axis=1) & np.isfinite(mesh.face_normals).all(axis=1)
-    start, order = mesh.edge_sides
-    bad = np.add.reduceat((~finite[mesh.side_face[order]]).astype(np.int64), start[:-1]) > 0
-    return np.flatnonzero(~bad), np.flatnonzero(bad)
+# ---- the light's pre-test ----------------------------------------------------------------------------------
+def up32(x: float) -> float:
+    """The smallest float32 value ``>= x`` (as a float)."""
+    r = np.float32(x)
+    if float(r) < x:
+        r = np.nextafter(r, np.float32(np.inf))
+    return float(r)
 
 
-@njit(cache=True, parallel=True)
-def _first_two_faces(start, order, side_face, ids, every):  # pragma: no cover - compiled
-    """:func:`key_faces` of every edge (``every``) or of ``ids``, in parallel."""
-    T = start.size - 1 if every else ids.size
-    f1, f2 = np.empty(T, dtype=np.int64), np.empty(T, dtype=np.int64)
-    for i in prange(T):
-        e = np.int64(i) if every else ids[i]
-        s = start[e]
-        f1[i] = side_face[order[s]]
-        f2[i] = side_face[order[s + 1 if start[e + 1] - s > 1 else s]]
-    return f1, f2
+def pretest(light: Light, p0_max: float) -> tuple[np.ndarray, float]:
+    """The float32 light and the threshold of a face's pre-test (the module docstring's ``s`` and ``thr``).
+
+    Each face keeps ``u``, its unit normal, and ``c = p0 . u``, in float32 (:func:`.hierarchy_build.face_planes`:
+    each ``u_i`` within ``2**-24`` of the true unit normal ``n^``'s, ``c`` within ``2**-24 |c| + 2**-47.9 |p0|_1``
+    of ``p0 . n^``).  ``|w| > thr`` proves the sign of the exact facing value ``v`` and that ``v != 0``:
+
+    * **Directional** ``d``, scaled by a power of two (exact) to ``s`` with largest |component| in ``[1/2, 1)``:
+      ``w = fl32(fl32(fl32(s0 u0) + fl32(s1 u1)) + fl32(s2 u2))`` with ``s`` in float32, ``thr = 2**-20 S``,
+      ``S = |s|_1 >= 1/2``.  Rounding ``s`` moves ``s . n^`` by at most ``2**-25 S`` (plus ``3 * 2**-150``
+      where a component underflows), ``u`` by ``2**-24 S (1 + 2**-24)``, and the float32 sum of three
+      products errs by ``gamma_3 = 3 * 2**-24 / (1 - 3 * 2**-24)`` of ``sum |s_i u_i| <= S (1 + 2**-24)^2``:
+      in all under ``4.6 * 2**-24 S + 2**-147 < 0.3 thr``.  So ``s . n^`` has ``w``'s sign and
+      ``|s . n^| > 0.7 thr``, and ``|d . n| = 2**e |n| |s . n^|`` exceeds float64's error bound for ``v``,
+      ``gamma_3 sum |d_i n_i| <= 3.1 * 2**-53 * 2**e |n| S`` plus underflow terms below ``2**-1070`` (``2**e``
+      and ``|n|_inf`` are in ``[2**-300, 2**300]``, so ``|d . n| > 2**-622``).
+    * **Point** ``L``: ``w = fl(fl(fl(fl(L0 u0) + fl(L1 u1)) + fl(L2 u2)) - c)`` in float64, ``thr = 2**-20 Q``,
+      ``Q = 3 |L|_inf + 5 P >= |L|_1 + 5 P`` with ``P = p0_max`` (every face with a plane has ``|p0|_1 <= P``,
+      so ``|c| <= 1.01 P``).  ``L . u`` is within ``2**-24 |L|_1`` of ``L . n^``, ``c`` within
+      ``2**-24 * 1.76 P + 2**-47.9 * 3 P`` of ``p0 . n^``, and the float64 sums add ``2**-50 (|L|_1 + 1.8 P)``:
+      under ``2**-22 Q = thr / 4``.  So ``(L - p0) . n^`` has ``w``'s sign and magnitude above ``0.75 thr``,
+      while ``v``'s own error (``fl(L_i - p0_i)``, three products, two sums) is below ``2**-50.9 |n| Q``;
+      with ``Q`` and ``|n|_inf`` in ``[2**-300, 2**300]`` nothing over- or underflows in float64.  ``c`` is a
+      float32: every face with a plane has ``P <= 2**100`` (so ``|c| < 2**102``, far from float32's
+      overflow), and point lights are pre-tested only when ``Q >= 2**-100`` (so the absolute error of a
+      ``c`` or ``u_i`` rounded into float32's subnormal range, at most ``2**-150``, stays below ``2**-30 thr``).
+
+    Every light whose ``S``'s scale ``2**e`` (directional) is outside ``[2**-300, 2**300]``, or whose ``Q``
+    (point) is outside ``[2**-100, 2**300]``, gets ``thr = inf``: nothing is pre-tested or pruned.  A
+    directional light's ``thr`` is rounded up to a float32 (:func:`up32`; a larger threshold only proves
+    less), so that the compiled walk compares its float32 ``w`` and bounds with it in float32, exactly as a
+    float64 comparison would; a point light's is compared in float64.
+    """
+    v = [float(x) for x in light.vector]
+    if isinstance(light, DirectionalLight):
+        m = max(abs(x) for x in v)
+        if not (1.0 / PRETEST_RANGE <= m <= PRETEST_RANGE):
+            return np.zeros(3, dtype=np.float32), math.inf
+        e = math.frexp(m)[1]
+        s = [math.ldexp(x, -e) for x in v]
+        return np.array(s, dtype=np.float32), up32(PRETEST_MARGIN * (abs(s[0]) + abs(s[1]) + abs(s[2])))
+    q = 3.0 * max(abs(x) for x in v) + 5.0 * p0_max  # Python floats: an overflow is inf, silently
+    if not (2.0**-100 <= q <= PRETEST_RANGE):
+        return np.zeros(3, dtype=np.float32), math.inf
+    return np.zeros(3, dtype=np.float32), PRETEST_MARGIN * q
 
 
-def key_faces(mesh: Mesh, ids: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-    """Each tree edge's key faces: its first two sides' faces (a boundary edge's one face twice)."""
-    start, order = mesh.edge_sides
-    every = ids is None
-    return _first_two_faces(start, order, mesh.side_face, np.zeros(0, dtype=np.int64) if every else ids, every)
-
-
-def tree_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The edges in the tree (every face finite), the others, the edges' face CSR, and each edge's key faces."""
-    start, order = mesh.edge_sides
-    ids, rest = split_edges(mesh)
-    f1, f2 = key_faces(mesh, ids)
-    ids = np.arange(mesh.n_edges, dtype=np.int64) if ids is None else ids
-    return ids, rest, start, mesh.side_face[order], np.stack([f1, f2], axis=1)
-
-
-def build_cost(sizes: dict[str, int], scheme: KeyScheme) -> tuple[dict[str, int], dict[str, int]]:
-    """Steps and ``true`` tally of :func:`.hierarchy_naive.build_naive` for a tree of these sizes."""
-    F, T, S = sizes["faces"], sizes["tree_edges"], sizes["tree_sides"]
-    passes = -(-scheme.bits // DIGIT_BITS) if T else 0
-    tally: dict[str, int] = {}
-    add_scaled(tally, {"read": 13, "add": 9, "mul": 6, "write": 6}, F)  # p0 and normal, stored
-    add_scaled(tally, scheme.setup_cost(F), 1)
-    add_scaled(tally, {"read": 3, "write": 1}, T)  # start, the key's two faces; the key stored
-    add_scaled(tally, scheme.key_cost, T)
-    # radix sort, per pass: histogram (key, bucket: 2 R, 1 A, 1 W); prefix sums (2 R, 1 A, 1 W per
-    # bucket); scatter (key, index, bucket: 3 R; key, index, bucket: 3 W; 1 A)
-    add_scaled(tally, {"read": 5, "add": 2, "write": 4}, passes * T)
-    add_scaled(tally, {"read": 2, "add": 1, "write": 1}, passes * (1 << DIGIT_BITS))
-    # renumbering: per edge its index, id, start pair (4 R), order and CSR end (2 W); per side the face
-    # and its local id (2 R), "not yet numbered" (1 C), the local id stored (1 W); per face its first
-    # visit (1 W, p0 and normal copied: 6 R, 6 W) and the final scan's test (1 R, 1 C)
-    add_scaled(tally, {"read": 4, "write": 2}, T)
-    add_scaled(tally, {"read": 2, "cmp": 1, "write": 1}, S)
-    add_scaled(tally, {"read": 7, "cmp": 1, "write": 7}, F)
-    add_scaled(tally, {"read": 2, "write": 1}, sizes["rest_sides"])  # a rest edge's face, its local id
-    # bounds, last node first: per node its skip (1 R), "a leaf" (1 C), its box, flag, edge range and
-    # skip stored (16 W); per leaf its edge range (2 R); per leaf edge its CSR pair (2 R), "one face"
-    # (1 A, 1 C); per side the face, its p0 and normal (7 R) and 12 compares; per internal node the
-    # last "child within" test (1 C); per child that test, its box, flag and skip (14 R), 12 compares
-    N, leaves = sizes["nodes"], sizes["leaves"]
-    add_scaled(tally, {"read": 1, "cmp": 1, "write": 16}, N)
-    add_scaled(tally, {"read": 2}, leaves)
-    add_scaled(tally, {"read": 2, "add": 1, "cmp": 1}, T)
-    add_scaled(tally, {"read": 7, "cmp": 12}, S)
-    add_scaled(tally, {"cmp": 1}, N - leaves)
-    add_scaled(tally, {"read": 14, "cmp": 13}, max(N - 1, 0))
-    return {**sizes, "sort_passes": passes}, tally
-
-
-# ---- what the query reports, and when its boxes cannot be trusted ----------------------------------
+# ---- what the query reports, and what it costs ---------------------------------------------------------------
 STEP_NAMES = ("node_test", "node_lit", "node_lit_open", "node_unlit", "node_open", "leaf_open", "edge_test",
-              "edge_side", "add")  # fmt: skip
+              "edge_test_other", "face_test", "face_exact", "add")  # fmt: skip
+"""The query's steps: a node tested; proved all lit and skipped; proved all lit but opened (a one-faced edge
+below); proved all unlit and skipped; an internal node opened; a leaf opened; an edge tested by the reference
+rule; of those, the other tree's (faces read through its CSR); a face pre-tested; a face evaluated exactly (its
+pre-test undecided); a silhouette edge output."""
 
 
-def overflows(tree: Hierarchy, light: Light) -> bool:
-    """Could ``L - p0`` overflow for this light?  Then no box is trusted and every node is opened."""
-    return (not isinstance(light, DirectionalLight)) and float(np.abs(light.vector).max()) + tree.p0_max > 1e307
+def setup_cost(directional: bool, scaled: bool) -> dict[str, int]:
+    """The light's pre-test constants (:func:`pretest`), once per query: the light (3 R); its largest
+    |coordinate| (2 C); a directional light's range (2 C), then, if in range, ``s = d 2**-e`` (3 M), ``S``
+    (2 A) and ``thr = 2**-20 S`` (1 M); a point light's ``Q = 3 m + 5 P`` (2 M, 1 A), its range (2 C), then,
+    if in range, ``thr`` (1 M).  ``scaled``: the light is in range (``thr`` finite)."""
+    if directional:
+        return {"read": 3, "cmp": 4, "mul": 4, "add": 2} if scaled else {"read": 3, "cmp": 4}
+    return {"read": 3, "cmp": 4, "mul": 3 if scaled else 2, "add": 1}
 
 
-__all__ = ["Hierarchy", "KeyScheme", "LEAF_SIZE", "FANOUT", "UNIT_RANGE", "build_cost", "levels", "shape",
-           "level_slots", "tree_edges", "split_edges", "key_faces", "overflows", "n_leaves", "STEP_NAMES"]  # fmt: skip
+def node_cost(directional: bool) -> dict[str, int]:
+    """One node's bounds and first decision: its box's ``u`` (and ``c``) ends (6 R, or 8 R); per axis the two
+    products (2 M) and their order (1 C); the two sums of three terms (4 A), less ``c`` for a point light (2 A);
+    ``lb > thr`` (1 C)."""
+    if directional:
+        return {"read": 6, "mul": 6, "cmp": 4, "add": 4}
+    return {"read": 8, "mul": 6, "cmp": 4, "add": 6}
+
+
+def face_cost(directional: bool) -> dict[str, int]:
+    """One face's pre-test and its share of the edge's count: its plane (3 R, or 4 R with ``c``), three products
+    (3 M), the sums (2 A, a point light 3 A with ``- c``), ``|w| > thr`` (1 C); then its sign (``w > 0``, or
+    ``v > 0`` after an exact evaluation: 1 C) added to the edge's count (1 A)."""
+    if directional:
+        return {"read": 3, "mul": 3, "add": 3, "cmp": 2}
+    return {"read": 4, "mul": 3, "add": 4, "cmp": 2}
+
+
+def exact_cost(directional: bool) -> dict[str, int]:
+    """One face's exact value, as the reference computes it: the face through the mesh's tables (the edge id,
+    its first side's slot, the side, its face: 4 R); the normal (3 R), 3 M, 2 A; a point light also ``p0``
+    (3 R) and ``L - p0`` (3 A)."""
+    if directional:
+        return {"read": 7, "mul": 3, "add": 2}
+    return {"read": 10, "mul": 3, "add": 5}
+
+
+def query_cost(steps: dict[str, int], directional: bool, scaled: bool) -> dict[str, int]:
+    """The ``true`` tally of :func:`.hierarchy_naive.query_naive` with these steps (docs/counting.md);
+    ``scaled``: the light's pre-test threshold is finite (:func:`setup_cost`).
+
+    Besides the per-step costs above: a node not proved lit also tests ``ub < -thr`` (1 C); a node proved
+    lit reads its boundary flag (1 R); every tested edge tests ``count == 1`` (1 C), and the other tree's
+    edges read their CSR range (2 R); a silhouette edge's id is read (1 R) and written out (1 W).
+    """
+    tally: dict[str, int] = {}
+    lit = steps["node_lit"] + steps["node_lit_open"]
+    add_scaled(tally, setup_cost(directional, scaled), 1)
+    add_scaled(tally, node_cost(directional), steps["node_test"])
+    add_scaled(tally, {"cmp": 1}, steps["node_test"] - lit)
+    add_scaled(tally, {"read": 1}, lit)
+    add_scaled(tally, {"cmp": 1}, steps["edge_test"])
+    add_scaled(tally, {"read": 2}, steps["edge_test_other"])
+    add_scaled(tally, face_cost(directional), steps["face_test"])
+    add_scaled(tally, exact_cost(directional), steps["face_exact"])
+    add_scaled(tally, {"read": 1, "write": 1}, steps["add"])
+    return tally
+
+
+__all__ = ["Hierarchy", "KeyScheme", "LEAF_SIZE", "FANOUT", "DIGIT_BITS", "UNIT_RANGE", "P_RANGE", "TASK_LEVEL",
+           "PRETEST_MARGIN", "PRETEST_RANGE", "STEP_NAMES", "digit_bits", "sort_passes", "levels", "level_starts",
+           "pretest", "up32", "query_cost", "node_cost", "face_cost", "exact_cost", "setup_cost"]  # fmt: skip

@@ -1,14 +1,10 @@
-"""The compiled query over a bounded edge hierarchy, its counted cost, and the detector glue.
+"""The compiled query over a bounded plane hierarchy, its counted cost, and the detector glue.
 
-:func:`query_fast` walks the tree of :mod:`.hierarchy` level by level over
-its level-order boxes, skipping every node whose boxes prove all its faces
-lit or all unlit (the proof is in :mod:`.hierarchy`'s docstring), and tests
-the edges of the leaves it reaches by the reference rule, pre-testing each
-face's sign from its float32 plane (:func:`.hierarchy_walk.pretest`).  It
-tests the nodes, edges and faces of the depth-first walk of
-:func:`.hierarchy_naive.query_naive`; :func:`query_cost` charges those steps
-what that walk executes for them (``docs/counting.md``).  :func:`detect` is
-what ``gaussmap`` and ``cones`` call."""
+:func:`query_fast` runs :func:`.hierarchy_walk.query` (the proof that its
+pruning is exact is in :mod:`.hierarchy`); it tests the nodes, edges and faces
+of :func:`.hierarchy_naive.query_naive`, and :func:`.hierarchy.query_cost`
+charges those steps what that walk executes for them (``docs/counting.md``).
+:func:`detect` is what ``gaussmap`` and ``cones`` call."""
 
 from __future__ import annotations
 
@@ -19,44 +15,47 @@ import numba
 import numpy as np
 
 from silcount.counting.arithmetic import OpCounter
-from silcount.detectors.adjacency import facing_flags
-from silcount.detectors.base import EngineRun, add_scaled, make_silhouette
-from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, Hierarchy, KeyScheme, overflows
-from silcount.detectors.hierarchy_build import build_fast
+from silcount.detectors.adjacency import edge_faces, facing_flags
+from silcount.detectors.base import EngineRun, make_silhouette
+from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
+from silcount.detectors.hierarchy import query_cost as _query_cost
+from silcount.detectors.hierarchy_build import build_fast, new_ids
 from silcount.detectors.hierarchy_naive import build_naive, query_naive
-from silcount.detectors.hierarchy_walk import TASK_LEVEL, pretest, query_parallel, query_serial
+from silcount.detectors.hierarchy_walk import N_STATS, TIES, query
 from silcount.detectors.reference import fast_tally as reference_tally
 from silcount.detectors.result import Silhouette
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
-PARALLEL_NODES = 1 << 15  # smaller trees are walked serially (waking the thread pool costs more than it saves)
+PARALLEL_NODES = 1 << 15  # smaller trees are walked on one thread (waking the thread pool costs more than it saves)
+_SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDictionary()
 
 
 def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, dict[str, int], int]:
     """Edge ids (unsorted), steps and face-evaluation ties of one query, compiled.
 
-    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees
-    (:func:`.hierarchy_walk.query_parallel`), smaller ones serially; the ids and steps are the same either way.
+    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when numba has more than one
+    thread, smaller ones on one; the ids and steps are the same either way.  The edges are written into
+    one output buffer kept with the tree (the subtrees write from their own first positions, so a fresh
+    buffer would be touched page by page on every query), then copied out.
     """
-    directional = isinstance(light, DirectionalLight)
-    out = np.empty(tree.order.size + tree.rest.size, dtype=np.int64)
-    stats = np.zeros(10, dtype=np.int64)
-    nbox, pbox = tree.nbox, tree.pbox
-    if overflows(tree, light):  # no box is trusted: every node is opened
-        nbox, pbox = np.full_like(nbox, np.nan), np.full_like(pbox, np.nan)
-    l32, thr = pretest(light, tree.p0_max)
-    args = (nbox, pbox, tree.boundary, tree.level_start, tree.leaf_size, tree.fanout, tree.edge_start, tree.edge_faces,
-            tree.order, tree.rest, tree.rest_start, tree.rest_faces, tree.p0, tree.nrm, tree.plane,
-            np.asarray(light.vector, dtype=np.float64), l32, thr, directional, out, stats)  # fmt: skip
-    if tree.n_nodes >= PARALLEL_NODES:
-        k = query_parallel(*args, TASK_LEVEL)
-    else:
-        k = query_serial(*args)
-    steps = {name: int(v) for name, v in zip(STEP_NAMES[:-1], stats[:8])}
+    s, thr = pretest(light, tree.p0_max)
+    p0, nrm = edge_faces(mesh)[:2]
+    out = _SCRATCH.get(tree)
+    if out is None:
+        out = _SCRATCH.setdefault(tree, new_ids(tree.order.size))
+    stats = np.zeros(N_STATS, dtype=np.int64)
+    threads = numba.get_num_threads()
+    split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
+    start, sides = mesh.edge_sides
+    k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout, tree.order,
+              tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
+              np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
+              split, threads)  # fmt: skip
+    steps = dict(zip(STEP_NAMES[:-1], stats[: len(STEP_NAMES) - 1].tolist(), strict=True))
     steps["add"] = int(k)
-    return out[:k], steps, int(stats[9])
+    return out[:k].copy(), steps, int(stats[TIES])
 
 
 def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
@@ -68,39 +67,12 @@ def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
     """
     tree = tree_for(mesh, scheme)
     threads = numba.get_num_threads()
-    numba.set_num_threads(1)  # the query is a parallel kernel on large trees
+    numba.set_num_threads(1)
     try:
         ids = query_fast(mesh, tree, light)[0]
     finally:
         numba.set_num_threads(threads)
     return np.sort(ids)
-
-
-# ---- the query's counted costs ------------------------------------------------------------------------
-def query_cost(steps: dict[str, int], directional: bool) -> dict[str, int]:
-    """The ``true`` tally of :func:`.hierarchy_naive.query_naive` with these steps (docs/counting.md)."""
-    if directional:
-        face = {"read": 3, "mul": 3, "add": 2, "cmp": 1}
-        node = {"read": 6, "mul": 6, "cmp": 3, "add": 4}
-    else:
-        face = {"read": 6, "mul": 3, "add": 5, "cmp": 1}
-        node = {"read": 12, "add": 10, "mul": 12, "cmp": 12}
-    lit = steps["node_lit"] + steps["node_lit_open"]
-    opened = steps["node_open"] + steps["leaf_open"]
-    tally: dict[str, int] = {}
-    add_scaled(tally, {"read": 3}, 1)  # the light, once
-    add_scaled(tally, node, steps["node_test"])
-    add_scaled(tally, {"cmp": 1}, steps["node_test"])  # lb > 0
-    add_scaled(tally, {"read": 1}, lit)  # the boundary flag
-    add_scaled(tally, {"cmp": 1}, steps["node_test"] - lit)  # ub <= 0
-    add_scaled(tally, {"read": 1}, steps["node_lit"] + steps["node_unlit"])  # skip
-    add_scaled(tally, {"read": 1, "cmp": 1}, opened)  # skip; "a leaf"
-    add_scaled(tally, {"read": 2}, steps["leaf_open"])  # its edge range
-    add_scaled(tally, {"read": 2, "cmp": 1}, steps["edge_test"])  # CSR pair; count == 1
-    add_scaled(tally, {"read": 1, "add": 1}, steps["edge_side"])  # face id; count + flag
-    add_scaled(tally, face, steps["edge_side"])
-    add_scaled(tally, {"read": 1, "write": 1}, steps["add"])  # the edge id, into the output
-    return tally
 
 
 # ---- a detector over a hierarchy -----------------------------------------------------------------------
@@ -124,7 +96,7 @@ def detect(mesh: Mesh, light: Light, name: str, paper_model: str, scheme: KeySch
     else:
         tree = tree_for(mesh, scheme, leaf_size, fanout)
         ids, steps, ties = query_fast(mesh, tree, light)
-        true = query_cost(steps, directional)
+        true = _query_cost(steps, directional, math.isfinite(pretest(light, tree.p0_max)[1]))
     E = max(mesh.n_edges, 1)
     ref_true = reference_true_total(mesh, light, int(ids.size))
     saving = ref_true - sum(true.values())
@@ -159,4 +131,4 @@ def tree_for(mesh: Mesh, scheme: KeyScheme, leaf_size: int = LEAF_SIZE, fanout: 
     return per_mesh[key]
 
 
-__all__ = ["detect", "query_fast", "query_cost", "tree_for", "plain_query"]
+__all__ = ["detect", "query_fast", "tree_for", "plain_query"]

@@ -241,7 +241,7 @@ def _sensitivity(det: str, kind: str, frame: pd.DataFrame, fits: dict) -> list[s
     text = (
         f"{LABELS[det]}, {kind} lights: edges tested per light grow as {show('s')}, {show('F')} and "
         f"{show('s_log2F')} (95% intervals: {verdict('s_log2F', 'O(s log F)')}; "
-        f"{verdict('F', 'linear in F, i.e. a fixed share of the edges')}); "
+        f"{verdict('F', 'a fixed share of the edges (linear in F)')}); "
         f"median {part['visited_fraction'].median():.3g} of E tested"
     )
     ref = frame[(frame["detector"] == "reference") & (frame["light_kind"] == kind)].set_index(KEYS)["true_ops"]
