@@ -139,8 +139,8 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, n_edges, n_rows):  # p
     """The tree's arrays (``n_edges`` ids, ``n_rows`` planes), the two-faced edges first, in leaf order: their
     ids, and both faces' planes side by side.
 
-    Three passes, each of independent reads, so that the processor overlaps their cache misses: each row's
-    face id (parked in the row's first four bytes), the edges' ids, then each row's plane by that face id.
+    Two passes, each of independent reads, so that the processor overlaps their cache misses: each edge's
+    id and its rows' face ids (parked in the rows' first four bytes), then each row's plane by that face id.
     One pass of dependent reads took 1.7x as long on the 1.04 M bunny.
     """
     order = np.empty(n_edges, dtype=np.int32)
@@ -149,10 +149,9 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, n_edges, n_rows):  # p
     n = pos.size
     for i in prange(n):
         j = pos[i]
+        order[i] = j if every else two_ids[j]
         parked[2 * i, 0] = pair_faces[j, 0]
         parked[2 * i + 1, 0] = pair_faces[j, 1]
-    for i in prange(n):
-        order[i] = pos[i] if every else two_ids[pos[i]]
     for q in prange(2 * n):
         f = parked[q, 0]
         for c in range(4):
@@ -273,9 +272,9 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
 
     The build tally is charged from the tree's sizes (:func:`build_cost`), as
     :func:`.hierarchy_naive.build_naive` executes it.  The large arrays are allocated by the compiled
-    kernels (``malloc``), not by numpy: numpy advises the kernel to back arrays of 4 MiB or more with huge
-    pages, and on the machines measured here (``scripts/bench_literature.py``) filling such a fresh array
-    took 5-6x as long (70-80 ms for 50 MB against 11-16 ms).
+    kernels (ordinary pages), not by numpy, which asks the kernel for huge pages from 4 MiB: on the machine
+    measured here the first fill of a fresh 48 MiB array took 3-63 ms that way, by whether 2 MiB pages were
+    free or had to be compacted, against 12-15 ms every time (``scripts/bench_literature.py`` prints both).
     """
     p0, nrm, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     p0_max = trusted_p0_max(p0)

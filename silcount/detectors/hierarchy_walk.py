@@ -23,7 +23,10 @@ edge position, and the runs are compacted in order.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from llvmlite import ir
+from numba import njit, prange, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 # ``stats`` slots: the STEP_NAMES of .hierarchy but 'add' (the returned count), then the ties
 NODE_TEST, NODE_LIT, NODE_LIT_OPEN, NODE_UNLIT, NODE_OPEN, LEAF_OPEN, EDGE_TEST, EDGE_OTHER, FACE_TEST, FACE_EXACT = (
@@ -31,6 +34,29 @@ NODE_TEST, NODE_LIT, NODE_LIT_OPEN, NODE_UNLIT, NODE_OPEN, LEAF_OPEN, EDGE_TEST,
 )
 TIES = 10
 N_STATS = 11
+
+
+AHEAD = 8  # leaves (or frontier nodes) ahead whose memory is asked for before it is read
+
+
+@intrinsic
+def prefetch(typingctx, arr, row):  # pragma: no cover - compiled
+    """Ask the processor for the cache line holding ``arr[row, 0]`` (``arr[row]`` of a 1-D array), without waiting
+    for it: ``llvm.prefetch`` (read, high locality, data).  It changes no value, only when memory arrives."""
+    sig = types.void(arr, row)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        idx = [args[1]] + [context.get_constant(types.intp, 0)] * (aryty.ndim - 1)
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, idx)
+        i8p, i32 = ir.PointerType(ir.IntType(8)), ir.IntType(32)
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+                                            "llvm.prefetch.p0i8")  # fmt: skip
+        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
 
 
 @njit(cache=True, inline="always")
@@ -86,6 +112,11 @@ def _pair_leaves(leaves, n, leaf_size, order, mesh_csr, planes, p0, nrm, light, 
     T = order.size
     edges = 0
     for t in range(n):
+        if t + AHEAD < n:  # a later leaf's rows and ids, asked for now
+            ahead = leaves[t + AHEAD] * leaf_size
+            for r in range(2 * ahead, 2 * min(T, ahead + leaf_size), 4):
+                prefetch(planes, r)
+            prefetch(order, ahead)
         lo = leaves[t] * leaf_size
         hi = min(T, lo + leaf_size)
         edges += hi - lo
@@ -125,6 +156,10 @@ def _other_leaves(leaves, n, leaf_size, order, start, mesh_csr, planes, p0, nrm,
     T = order.size
     edges = sides = 0
     for t in range(n):
+        if t + AHEAD < n:
+            ahead = leaves[t + AHEAD] * leaf_size
+            for r in range(start[ahead], start[min(T, ahead + leaf_size)], 4):
+                prefetch(planes, r)
         lo = leaves[t] * leaf_size
         hi = min(T, lo + leaf_size)
         edges += hi - lo
@@ -219,6 +254,8 @@ def _walk(pairs, lv, level, j0, box, boundary, leaf_size, fanout, order, start, 
         below = 0 if leaf else lv[level + 2] - lv[level + 1]
         m = 0
         for t in range(n):
+            if t + AHEAD < n:
+                prefetch(box, first + cur[t + AHEAD])
             j = cur[t]
             i = first + j
             d = _decide(box, i, s, light, thr, thr32, directional)
