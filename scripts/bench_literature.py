@@ -253,7 +253,7 @@ def section_literature(mesh: silcount.Mesh) -> None:
     print(
         f"  a fresh (n, 4) float32 array the size of the tree's planes ({fresh['mib']:.0f} MiB) filled by a compiled "
         f"loop, best of 3: allocated by numpy {_ms(fresh['numpy']).strip()}, by the compiled runtime "
-        f"{_ms(fresh['compiled']).strip()} (why the build allocates in its kernels)"
+        f"{_ms(fresh['compiled']).strip()} (the build's first touch of its arrays)"
     )
 
     sweep = sweep_figures(mesh, kinds, ref_ids, ref_med, mb)

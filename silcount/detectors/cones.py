@@ -100,11 +100,10 @@ def _offset_cell(q):  # pragma: no cover - compiled
 
 
 @njit(cache=True, parallel=True)
-def _keys(plane, kf, lo2, scale, idx_bits):  # pragma: no cover - compiled
+def _keys(plane, kf, lo2, scale, idx_bits, keys):  # pragma: no cover - compiled
     """3-D Z-order codes of the planes' sum (direction of ``u1 + u2``, cell of ``c1 + c2``), as :func:`key_naive`,
     shifted left by ``idx_bits`` above the row."""
     T = kf.shape[0]
-    keys = np.empty(T, dtype=np.uint64)
     sh = np.uint64(idx_bits)
     for i in prange(T):
         a, b = kf[i, 0], kf[i, 1]
@@ -114,12 +113,13 @@ def _keys(plane, kf, lo2, scale, idx_bits):  # pragma: no cover - compiled
         nx, ny = octahedral(x, y, z, QUANT_N)
         q = (np.float64(plane[a, 3]) + np.float64(plane[b, 3]) - lo2) * scale
         keys[i] = (interleave3(nx, ny, _offset_cell(q)) << sh) | np.uint64(i)
-    return keys
 
 
 def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
     """The edges' 3-D plane keys, compiled."""
-    return _keys(plane, key_faces, consts[0], consts[1], idx_bits)
+    keys = np.empty(key_faces.shape[0], dtype=np.uint64)
+    _keys(plane, key_faces, consts[0], consts[1], idx_bits, keys)
+    return keys
 
 
 def setup_naive(plane: Memory, F: int, counter: OpCounter) -> tuple:

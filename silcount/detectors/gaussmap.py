@@ -62,11 +62,10 @@ QUANT = float((1 << BITS) - 1) / 2.0  # (q + 1) * QUANT lies in [0, 2**12 - 1] f
 
 
 @njit(cache=True, parallel=True)
-def _keys(plane, kf, idx_bits):  # pragma: no cover - compiled
+def _keys(plane, kf, idx_bits, keys):  # pragma: no cover - compiled
     """Z-order codes of the octahedral cells of the arcs' points ``u1 + u2``, with :func:`key_naive`'s arithmetic,
     shifted left by ``idx_bits`` above the row."""
     T = kf.shape[0]
-    keys = np.empty(T, dtype=np.uint64)
     sh = np.uint64(idx_bits)
     for i in prange(T):
         a, b = kf[i, 0], kf[i, 1]
@@ -75,12 +74,13 @@ def _keys(plane, kf, idx_bits):  # pragma: no cover - compiled
         z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
         cx, cy = octahedral(x, y, z, QUANT)
         keys[i] = (interleave2(cx, cy) << sh) | np.uint64(i)
-    return keys
 
 
 def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
     """Octahedral Z-order keys of the arcs ``u1 + u2`` (an untrusted face's NaN plane: cell 0)."""
-    return _keys(plane, key_faces, idx_bits)
+    keys = np.empty(key_faces.shape[0], dtype=np.uint64)
+    _keys(plane, key_faces, idx_bits, keys)
+    return keys
 
 
 def key_naive(plane: Memory, f1: int, f2: int, consts: tuple, counter: OpCounter) -> int:

@@ -47,9 +47,8 @@ def _p0_max(p0, limit):  # pragma: no cover - compiled
 
 
 @njit(cache=True, parallel=True)
-def _face_planes(nrm, p0, lo, hi, p_max):  # pragma: no cover - compiled
-    """:func:`face_planes` (NaN rows where untrusted), allocated here (see :func:`build_fast` on why)."""
-    plane = np.empty((nrm.shape[0], 4), dtype=np.float32)
+def _face_planes(nrm, p0, lo, hi, p_max, plane):  # pragma: no cover - compiled
+    """:func:`face_planes` into ``plane`` (NaN rows where untrusted), without temporaries."""
     for f in prange(nrm.shape[0]):
         m = (abs(nrm[f, 0]) + abs(nrm[f, 1])) + abs(nrm[f, 2])
         big = (abs(p0[f, 0]) + abs(p0[f, 1])) + abs(p0[f, 2])
@@ -61,7 +60,6 @@ def _face_planes(nrm, p0, lo, hi, p_max):  # pragma: no cover - compiled
         x, y, z = x / r, y / r, z / r
         plane[f, 0], plane[f, 1], plane[f, 2] = x, y, z
         plane[f, 3] = (p0[f, 0] * x + p0[f, 1] * y) + p0[f, 2] * z
-    return plane
 
 
 def trusted_p0_max(p0: np.ndarray) -> float:
@@ -81,20 +79,22 @@ def face_planes(nrm: np.ndarray, p0: np.ndarray, p0_max: float) -> np.ndarray:
     true unit normal's.  The offset is computed in float64 from the float64 unit normal (within ``2**-47.9 |p0|_1`` of
     ``p0 . n / |n|``), then rounded to float32 (``2**-24`` of itself more).
     """
-    return _face_planes(np.ascontiguousarray(nrm, dtype=np.float64), np.ascontiguousarray(p0, dtype=np.float64),
-                        1.0 / UNIT_RANGE, UNIT_RANGE, p0_max)  # fmt: skip
+    plane = np.empty((nrm.shape[0], 4), dtype=np.float32)
+    _face_planes(np.ascontiguousarray(nrm, dtype=np.float64), np.ascontiguousarray(p0, dtype=np.float64),
+                 1.0 / UNIT_RANGE, UNIT_RANGE, p0_max, plane)  # fmt: skip
+    return plane
 
 
 @njit(cache=True, parallel=True)
-def _radix_sort(keys, lo_bit, hi_bit, digit_bits, threads):  # pragma: no cover - compiled
-    """A stable LSD radix sort of uint64 ``keys`` on bits ``lo_bit .. hi_bit - 1``, using ``keys`` as one buffer;
+def _radix_sort(keys, spare, lo_bit, hi_bit, digit_bits, threads):  # pragma: no cover - compiled
+    """A stable LSD radix sort of uint64 ``keys`` on bits ``lo_bit .. hi_bit - 1``, between ``keys`` and ``spare``;
     returns the low ``lo_bit`` bits of the sorted keys (the positions), as int64.
 
     The edges' positions are in the keys' low bits, so this is the stable argsort of the keys proper;
     each pass counts digits per thread chunk, then scatters each chunk in order.
     """
     n = keys.size
-    a, b = keys, np.empty_like(keys)
+    a, b = keys, spare
     radix = 1 << digit_bits
     mask = np.uint64(radix - 1)
     n_chunks = max(1, min(threads, n // 65536))
@@ -131,20 +131,19 @@ def sorted_positions(keys: np.ndarray, key_bits: int, idx_bits: int) -> np.ndarr
     (``keys`` is overwritten)."""
     if keys.size == 0:
         return np.zeros(0, dtype=np.int64)
-    return _radix_sort(keys, idx_bits, idx_bits + key_bits, digit_bits(keys.size), numba.get_num_threads())
+    return _radix_sort(keys, np.empty_like(keys), idx_bits, idx_bits + key_bits, digit_bits(keys.size),
+                       numba.get_num_threads())  # fmt: skip
 
 
 @njit(cache=True, parallel=True)
-def _gather_pairs(pos, two_ids, every, pair_faces, plane, n_edges, n_rows):  # pragma: no cover - compiled
-    """The tree's arrays (``n_edges`` ids, ``n_rows`` planes), the two-faced edges first, in leaf order: their
-    ids, and both faces' planes side by side.
+def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes):  # pragma: no cover - compiled
+    """The two-faced edges into the tree's arrays, first, in leaf order: their ids (``order``), and both faces'
+    planes side by side (``planes``).
 
     Two passes, each of independent reads, so that the processor overlaps their cache misses: each edge's
     id and its rows' face ids (parked in the rows' first four bytes), then each row's plane by that face id.
     One pass of dependent reads took 1.7x as long on the 1.04 M bunny.
     """
-    order = np.empty(n_edges, dtype=np.int32)
-    planes = np.empty((n_rows, 4), dtype=np.float32)
     parked = planes.view(np.int32)
     n = pos.size
     for i in prange(n):
@@ -156,19 +155,6 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, n_edges, n_rows):  # p
         f = parked[q, 0]
         for c in range(4):
             planes[q, c] = plane[f, c]
-    return order, planes
-
-
-@njit(cache=True)
-def _new_boxes(n):  # pragma: no cover - compiled
-    """``n`` boxes and flags, allocated here (see :func:`build_fast`)."""
-    return np.empty((n, 8), dtype=np.float32), np.zeros(n, dtype=np.bool_)
-
-
-@njit(cache=True)
-def new_ids(n):  # pragma: no cover - compiled
-    """An int64 buffer of ``n``, allocated by the compiled runtime (see :func:`build_fast`)."""
-    return np.empty(n, dtype=np.int64)
 
 
 @njit(cache=True)
@@ -271,10 +257,7 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     """The two trees over the mesh's edges, each sorted by ``scheme``'s keys, built by compiled kernels.
 
     The build tally is charged from the tree's sizes (:func:`build_cost`), as
-    :func:`.hierarchy_naive.build_naive` executes it.  The large arrays are allocated by the compiled
-    kernels (ordinary pages), not by numpy, which asks the kernel for huge pages from 4 MiB: on the machine
-    measured here the first fill of a fresh 48 MiB array took 3-63 ms that way, by whether 2 MiB pages were
-    free or had to be compacted, against 12-15 ms every time (``scripts/bench_literature.py`` prints both).
+    :func:`.hierarchy_naive.build_naive` executes it.
     """
     p0, nrm, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     p0_max = trusted_p0_max(p0)
@@ -286,8 +269,10 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     pos = sorted_positions(keys, scheme.bits, bits)
     del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
     S1 = int(o_start[-1]) if T1 else 0
-    order, planes = _gather_pairs(pos, np.zeros(0, dtype=np.int64) if two_ids is None else two_ids, two_ids is None,
-                                  pair_faces, plane, T2 + T1, 2 * T2 + S1)  # fmt: skip
+    order = np.empty(T2 + T1, dtype=np.int32)
+    planes = np.empty((2 * T2 + S1, 4), dtype=np.float32)
+    _gather_pairs(pos, np.zeros(0, dtype=np.int64) if two_ids is None else two_ids, two_ids is None, pair_faces, plane,
+                  order, planes)  # fmt: skip
     del pos
     other_start = np.zeros(T1 + 1, dtype=np.int64)
     if T1:
@@ -298,7 +283,7 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     pair_lv = level_starts(T2, leaf_size, fanout)
     other_lv = level_starts(T1, leaf_size, fanout, int(pair_lv[-1]))
     N = int(other_lv[-1])
-    box, boundary = _new_boxes(N)
+    box, boundary = np.empty((N, 8), dtype=np.float32), np.zeros(N, dtype=np.bool_)
     tree_boxes(planes, 0, None, T2, pair_lv, leaf_size, fanout, box, boundary)
     tree_boxes(planes, 2 * T2, other_start, T1, other_lv, leaf_size, fanout, box, boundary)
     sizes = build_sizes(mesh.n_faces, int(np.count_nonzero(plane[:, 0] == plane[:, 0])), T2, T1, S1, N,
@@ -359,4 +344,4 @@ def build_cost(sizes: dict[str, int], scheme: KeyScheme) -> dict[str, int]:
 
 
 __all__ = ["build_fast", "build_cost", "build_sizes", "face_planes", "trusted_p0_max", "index_bits",
-           "sorted_positions", "tree_boxes", "other_key_faces", "new_ids"]  # fmt: skip
+           "sorted_positions", "tree_boxes", "other_key_faces"]  # fmt: skip

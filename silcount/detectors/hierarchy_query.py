@@ -19,7 +19,7 @@ from silcount.detectors.adjacency import edge_faces, facing_flags
 from silcount.detectors.base import EngineRun, make_silhouette
 from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
 from silcount.detectors.hierarchy import query_cost as _query_cost
-from silcount.detectors.hierarchy_build import build_fast, new_ids
+from silcount.detectors.hierarchy_build import build_fast
 from silcount.detectors.hierarchy_naive import build_naive, query_naive
 from silcount.detectors.hierarchy_walk import N_STATS, TIES, query
 from silcount.detectors.reference import fast_tally as reference_tally
@@ -44,7 +44,7 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     p0, nrm = edge_faces(mesh)[:2]
     out = _SCRATCH.get(tree)
     if out is None:
-        out = _SCRATCH.setdefault(tree, new_ids(tree.order.size))
+        out = _SCRATCH.setdefault(tree, np.empty(tree.order.size, dtype=np.int64))
     stats = np.zeros(N_STATS, dtype=np.int64)
     threads = numba.get_num_threads()
     split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
