@@ -21,7 +21,7 @@ Beside them: ``result.py`` (the result type, :class:`Silhouette`), ``base.py``
 ``edge_array.py`` (TA's and HSD's array S), ``onplane.py`` (EESD literal's
 point-on-plane search), ``hierarchy.py``, ``hierarchy_build.py``,
 ``hierarchy_walk.py``, ``hierarchy_naive.py`` and ``hierarchy_query.py`` (the
-bounded edge tree gaussmap and cones share: the tree, its compiled build, its
+bounded plane tree gaussmap and cones share: the tree, its compiled build, its
 compiled walk, both on counting arithmetic, and the detector glue),
 ``morton.py`` (their Z-order keys), ``eesd_rays.py`` (EESD's outward points and
 rays) and ``eesd_counted.py`` (EESD's counted routines).  :data:`REGISTRY` maps each name to its ``detect``,
