@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from silcount.mesh.raytrace import RayTracer, hits_any_of
+from silcount.mesh.raytrace import RayTracer, hits_any_of, lines_any_hit
 
 
 def brute_force(tris, origins, directions, t_min, t_max):
@@ -134,3 +134,47 @@ def test_hits_any_of_is_any_of_its_triangles_tests(seed):
         assert 0 < expected.sum() < R - (counts == 0).sum()  # hits and misses among the listed
     with pytest.raises(ValueError, match="300 rays but 7 origins"):
         hits_any_of(np.zeros((7, 3)), np.zeros((R, 3)), start, rt.triangles[which])
+
+
+def every_triangle(tris, origins, direction):
+    """Each line against every triangle, by the tracer's own test (t in (-inf, inf)): no grid at all."""
+    rt = RayTracer(tris)
+    R, T = len(origins), len(tris)
+    o = np.repeat(origins, T, axis=0)
+    d = np.broadcast_to(direction, (R * T, 3))
+    return rt.hits_triangle(o, d, np.tile(np.arange(T), R), -np.inf, np.inf).reshape(R, T).any(axis=1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_parallel_lines_match_every_triangles_test(seed):
+    # Lines of one direction (a directional light's EESD rays) through random points, points on the
+    # triangles' vertices and edges, far points, NaN and inf points, against random triangles, slivers,
+    # triangles containing the direction (never hit) and a degenerate one, at scales from 1e-6 to 1e6: the
+    # 2-D grid's answer is the OR of the tracer's test over every triangle, and the 3-D tracer's any_hit.
+    rng = np.random.default_rng(seed)
+    scale = 10.0 ** rng.integers(-6, 7)
+    d = rng.normal(size=3)
+    tris = rng.uniform(-1, 1, size=(150, 1, 3)) + rng.normal(scale=0.2, size=(150, 3, 3))
+    tris[:20, 2] = tris[:20, 0] + 1e-3 * (tris[:20, 1] - tris[:20, 0]) + 1e-4 * rng.normal(size=(20, 3))  # slivers
+    tris[20:30, 2] = tris[20:30, 0] + 0.7 * d  # the line's direction lies in their planes
+    tris[30, 2] = tris[30, 0]  # degenerate
+    tris *= scale
+    points = rng.uniform(-1.5, 1.5, size=(400, 3)) * scale
+    on_edges = tris[40:80, 0] + rng.uniform(0, 1, size=(40, 1)) * (tris[40:80, 1] - tris[40:80, 0])
+    odd = np.array([[np.nan, 0.0, 0.0], [np.inf, 1.0, 2.0], [1e9 * scale, 0.0, 0.0]])
+    origins = np.vstack([points, tris[40:80, 0], on_edges, odd])
+    got = lines_any_hit(origins, d, tris)
+    assert np.array_equal(got, every_triangle(tris, origins, d))
+    assert np.array_equal(got, RayTracer(tris).any_hit(origins, np.broadcast_to(d, origins.shape), -np.inf, np.inf))
+    assert 0 < got.sum() < len(origins) - 3 and not got[-3:].any()
+    done = rng.random(len(origins)) < 0.3
+    assert np.array_equal(lines_any_hit(origins, d, tris, done=done), got | done)
+
+
+def test_parallel_lines_with_no_triangle_or_no_direction_hit_nothing():
+    o = np.zeros((3, 3))
+    assert not lines_any_hit(o, [0.0, 0.0, 1.0], np.zeros((0, 3, 3))).any()
+    tri = np.array([[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]])
+    assert lines_any_hit(o, [0.0, 0.0, 1.0], tri).all()
+    assert not lines_any_hit(o, [0.0, 0.0, 0.0], tri).any()
+    assert not lines_any_hit(o, [0.0, np.nan, 1.0], tri).any()

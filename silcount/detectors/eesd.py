@@ -99,6 +99,11 @@ the rays that miss their own faces are cast through the grid: on a closed
 mesh these are exactly the edges whose faces lie on one side as seen from
 the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
 the 1M-face subdivided bunny).  ``notes['rays_cast']`` (fast engine only).
+A directional light's rays are parallel lines, so instead of the 3-D grid
+they meet one 2-D grid of the triangles projected along them, built per
+light (:func:`silcount.mesh.raytrace.lines_any_hit`): the same test on the
+triangles of one cell.  Over the shared corpus's 51 meshes x 64 lights, the
+same answers for every edge and 3.3 s against 8.4 s on one thread.
 
 ``literal``'s exact-zero plane tests are found by
 :func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
@@ -130,6 +135,8 @@ from silcount.detectors.eesd_counted import (
 )
 from silcount.detectors.eesd_rays import (
     face_planes,
+    fan_triangles,
+    light_values,
     outward_points_and_rays,
     own_triangles,
     plain_edge_ids,
@@ -140,7 +147,7 @@ from silcount.detectors.onplane import zeros_per_point
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
-from silcount.mesh.raytrace import hits_any_of
+from silcount.mesh.raytrace import hits_any_of, lines_any_hit
 
 NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
 LABEL = "EESD"
@@ -221,9 +228,14 @@ def _fast_intended(mesh: Mesh, light: Light):
     #    in the full face loop, so those edges are settled without casting.
     pair_start, pair_triangles = own_triangles(mesh)
     blocked = hits_any_of(origins, directions, pair_start, pair_triangles, t_min, t_max)
-    # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.
+    # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
+    #    directional light's rays are parallel lines: one 2-D grid of the triangles projected along them
+    #    answers each with one cell (the same test on the triangles its point's cell lists).
     cand = np.flatnonzero(~blocked)
-    blocked[cand] = tracer(mesh).any_hit(origins[cand], directions[cand], t_min, t_max)
+    if isinstance(light, DirectionalLight):
+        blocked = lines_any_hit(origins, light_values(light), fan_triangles(mesh), done=blocked)
+    else:
+        blocked[cand] = tracer(mesh).any_hit(origins[cand], directions[cand], t_min, t_max)
     ids = np.flatnonzero(~blocked)
     T = data["tri_face"].size
     steps = {

@@ -45,11 +45,19 @@ def ray_data(mesh: Mesh) -> dict:
     return got
 
 
+def fan_triangles(mesh: Mesh) -> np.ndarray:
+    """The mesh's fan triangles (T, 3, 3), the ones every ray is tested against (cached with the mesh)."""
+    data = ray_data(mesh)
+    if "triangles" not in data:
+        data["triangles"] = np.ascontiguousarray(mesh.vertices[data["tri_idx"]], dtype=np.float64)
+    return data["triangles"]
+
+
 def tracer(mesh: Mesh) -> RayTracer:
     """The ray tracer over the mesh's fan triangles (cached with the mesh)."""
     data = ray_data(mesh)
     if "tracer" not in data:
-        data["tracer"] = RayTracer(mesh.vertices[data["tri_idx"]])
+        data["tracer"] = RayTracer(fan_triangles(mesh))
     return data["tracer"]
 
 
