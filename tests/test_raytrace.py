@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from silcount.mesh.raytrace import RayTracer, hits_any_of, lines_any_hit
+from silcount.mesh.parallel_rays import lines_any_hit
+from silcount.mesh.raytrace import RayTracer, hits_any_of
 
 
 def brute_force(tris, origins, directions, t_min, t_max):
