@@ -172,6 +172,22 @@ def test_parallel_lines_match_every_triangles_test(seed):
     assert np.array_equal(lines_any_hit(origins, d, tris, done=done), got | done)
 
 
+def test_a_non_finite_triangle_is_never_listed_and_changes_no_answer():
+    # The tracer's test never meets a triangle with an infinite or NaN corner (its determinant or
+    # coordinates are NaN); the grid leaves such a triangle out, and the other triangles answer as before.
+    rng = np.random.default_rng(7)
+    tris = rng.uniform(-1, 1, size=(80, 1, 3)) + rng.normal(scale=0.3, size=(80, 3, 3))
+    origins = rng.uniform(-1.5, 1.5, size=(300, 3))
+    d = np.array([0.2, -0.4, 1.0])
+    plain = lines_any_hit(origins, d, tris)
+    for bad in (np.inf, -np.inf, np.nan):
+        odd = tris.copy()
+        odd[[3, 40], 1, 0] = bad
+        expected = lines_any_hit(origins, d, np.delete(tris, [3, 40], axis=0))
+        assert np.array_equal(lines_any_hit(origins, d, odd), expected)
+    assert 0 < plain.sum() < len(origins)
+
+
 def test_parallel_lines_with_no_triangle_or_no_direction_hit_nothing():
     o = np.zeros((3, 3))
     assert not lines_any_hit(o, [0.0, 0.0, 1.0], np.zeros((0, 3, 3))).any()

@@ -79,25 +79,26 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
             x1, y1 = max(x1, box[i, 2]), max(y1, box[i, 3])
     gx = int((x1 - x0) / cell) + 1
     gy = int((y1 - y0) / cell) + 1
+    rng = np.empty((T, 4), dtype=np.int64)  # each triangle's cells: x from, x to, y from, y to (none unlisted)
+    rng[:, 0] = rng[:, 2] = 0
+    rng[:, 1] = rng[:, 3] = -1
+    for i in nb.prange(T):
+        if box[i, 0] < np.inf:
+            rng[i, 0], rng[i, 1] = min(int((box[i, 0] - x0) / cell), gx - 1), min(int((box[i, 2] - x0) / cell), gx - 1)
+            rng[i, 2], rng[i, 3] = min(int((box[i, 1] - y0) / cell), gy - 1), min(int((box[i, 3] - y0) / cell), gy - 1)
     count = np.zeros(gx * gy + 1, dtype=np.int64)
     for i in range(T):
-        if box[i, 0] < np.inf:
-            ax, bx = min(int((box[i, 0] - x0) / cell), gx - 1), min(int((box[i, 2] - x0) / cell), gx - 1)
-            ay, by = min(int((box[i, 1] - y0) / cell), gy - 1), min(int((box[i, 3] - y0) / cell), gy - 1)
-            for y in range(ay, by + 1):
-                for x in range(ax, bx + 1):
-                    count[y * gx + x + 1] += 1
+        for y in range(rng[i, 2], rng[i, 3] + 1):
+            for x in range(rng[i, 0], rng[i, 1] + 1):
+                count[y * gx + x + 1] += 1
     start = np.cumsum(count)
     items = np.empty(start[-1], dtype=np.int64)
     fill = start[:-1].copy()
     for i in range(T):
-        if box[i, 0] < np.inf:
-            ax, bx = min(int((box[i, 0] - x0) / cell), gx - 1), min(int((box[i, 2] - x0) / cell), gx - 1)
-            ay, by = min(int((box[i, 1] - y0) / cell), gy - 1), min(int((box[i, 3] - y0) / cell), gy - 1)
-            for y in range(ay, by + 1):
-                for x in range(ax, bx + 1):
-                    items[fill[y * gx + x]] = i
-                    fill[y * gx + x] += 1
+        for y in range(rng[i, 2], rng[i, 3] + 1):
+            for x in range(rng[i, 0], rng[i, 1] + 1):
+                items[fill[y * gx + x]] = i
+                fill[y * gx + x] += 1
     for r in nb.prange(R):
         if out[r]:
             continue
