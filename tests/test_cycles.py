@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import tomllib
 
+import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from silcount.calibrate import mca
 from silcount.cli.main import main
@@ -90,6 +93,30 @@ def test_a_tally_with_an_unweighed_kind_fails_naming_it():
     assert p.cycles({"add": 2, "div": 3, "sqrt": 1}) == 6
     with pytest.raises(BadArgument, match="fma"):
         p.cycles({"add": 1, "fma": 2})
+
+
+count = st.one_of(st.just(0), st.integers(1, 10), st.integers(0, 2**52))
+tally = st.permutations(ALL).flatmap(
+    lambda kinds: st.tuples(*[count for _ in kinds]).map(lambda cs: dict(zip(kinds, cs, strict=True)))
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.one_of(tally, st.builds(lambda t: dict(list(t.items())[:3]), tally)), max_size=12))
+def test_cycles_many_is_cycles_bit_for_bit(tallies):
+    # Kinds in any order (the sum's order follows the tally's), zero counts, counts up to 2**52, on every
+    # built-in profile (weights such as 0.25 and 1.3333, whose sums round): the same doubles as cycles().
+    profiles = list(cycles.builtin_profiles().values())
+    for profile, got in zip(profiles, cycles.cycles_many(profiles, tallies), strict=True):
+        expected = np.array([float(profile.cycles(t)) for t in tallies])
+        assert got.tobytes() == expected.tobytes(), profile.name
+
+
+def test_cycles_many_fails_on_an_unweighed_kind_naming_it():
+    profiles = [cycles.builtin_profiles()["unit"]]
+    assert cycles.cycles_many(profiles, [{"add": 1, "fma": 0}])[0].tolist() == [1.0]
+    with pytest.raises(BadArgument, match="fma"):
+        cycles.cycles_many(profiles, [{"add": 1}, {"add": 1, "fma": 2}])
 
 
 def test_user_profile_file(tmp_path):

@@ -212,6 +212,47 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
         assert res.n_edges <= res.notes["rays_cast"] < mesh.n_edges  # every silhouette edge's ray was cast
 
 
+@pytest.mark.parametrize("name", ["cow.obj", "soup.stl"])
+def test_own_face_pass_is_the_tracers_test_on_each_edges_own_faces(shared_mesh, name):
+    # own_blocked answers, for several lights of a kind at once, whether each edge's ray meets one of its own
+    # faces.  Check it, edge by edge, against RayTracer.hits_triangle (the tracer's own test, no grid) on the
+    # edge's faces' fan triangles, taken from the mesh's sides, not from own_triangles' copy; and the outward
+    # points of a subset against outward_points_and_rays, bit for bit.
+    from silcount.detectors.eesd_rays import outward_points_and_rays, outward_points_of, own_blocked, ray_data, tracer
+
+    mesh = shared_mesh(name)
+    rng = np.random.default_rng(5)
+    data, rays = ray_data(mesh), tracer(mesh)
+    start, order = mesh.edge_sides
+    owner = np.repeat(np.arange(mesh.n_edges), np.diff(start))  # each side's edge, sides in edge order
+    faces = mesh.side_face[order]
+    n_tri = np.diff(data["tri_start"])[faces]
+    edge_of = np.repeat(owner, n_tri)  # one row per (edge, own triangle)
+    tri = np.repeat(data["tri_start"][faces], n_tri) + (
+        np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+    )
+    far = mesh.centre + 3 * mesh.bounding_radius * rng.normal(size=(3, 3))
+    for lights in (
+        [silcount.DirectionalLight(d) for d in rng.normal(size=(3, 3))],
+        [silcount.PointLight(p) for p in far],
+    ):
+        got = own_blocked(mesh, lights)
+        for j, light in enumerate(lights):
+            _, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
+            hit = rays.hits_triangle(origins[edge_of], directions[edge_of], tri, t_min, t_max)
+            expected = np.zeros(mesh.n_edges, dtype=bool)
+            expected[edge_of[hit]] = True
+            assert np.array_equal(got[:, j], expected)
+            assert 0 < expected.sum() < mesh.n_edges or name == "soup.stl"
+            some = np.sort(rng.choice(mesh.n_edges, 50, replace=False))
+            assert (
+                outward_points_of(mesh, light, some).tobytes()
+                == outward_points_and_rays(mesh, light)[0][some].tobytes()
+            )
+    with pytest.raises(ValueError, match="one kind"):
+        own_blocked(mesh, [silcount.DirectionalLight((0, 0, 1)), silcount.PointLight((0, 0, 9))])
+
+
 def _extend_by_routine(mesh, light):
     """P of every edge by the naive engine's counted routine, on plain numbers."""
     from silcount.counting.arithmetic import Num, OpCounter

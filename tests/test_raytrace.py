@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from silcount.mesh.parallel_rays import lines_any_hit
-from silcount.mesh.raytrace import RayTracer, hits_any_of
+from silcount.mesh.raytrace import RayTracer
 
 
 def brute_force(tris, origins, directions, t_min, t_max):
@@ -108,33 +108,6 @@ def test_per_ray_ranges_and_hits_triangle():
         False,
         True,
     ]
-
-
-@pytest.mark.parametrize("seed", [0, 1])
-def test_hits_any_of_is_any_of_its_triangles_tests(seed):
-    # Each ray lists 0-4 random triangles, laid out in ray order; the answer is the OR of hits_triangle,
-    # for per-ray rows and for one broadcast origin or direction (a point or a directional light).
-    rng = np.random.default_rng(seed)
-    tris = rng.uniform(-1, 1, size=(60, 1, 3)) + rng.normal(scale=0.4, size=(60, 3, 3))
-    rt = RayTracer(tris)
-    R = 300
-    counts = rng.integers(0, 5, size=R)
-    start = np.concatenate([[0], np.cumsum(counts)])
-    which = rng.integers(0, 60, size=start[-1])
-    ray = np.repeat(np.arange(R), counts)
-    for origins, directions in (
-        (rng.uniform(-2, 2, size=(R, 3)), rng.normal(size=(R, 3))),
-        (np.broadcast_to([0.1, -0.2, 3.0], (R, 3)), rng.normal(size=(R, 3))),
-        (rng.uniform(-2, 2, size=(R, 3)), np.broadcast_to([0.3, 0.1, -1.0], (R, 3))),
-    ):
-        each = rt.hits_triangle(np.asarray(origins)[ray], np.asarray(directions)[ray], which, -np.inf, np.inf)
-        expected = np.zeros(R, dtype=bool)
-        expected[ray[each]] = True
-        got = hits_any_of(origins, directions, start, rt.triangles[which], -np.inf, np.inf)
-        assert np.array_equal(got, expected)
-        assert 0 < expected.sum() < R - (counts == 0).sum()  # hits and misses among the listed
-    with pytest.raises(ValueError, match="300 rays but 7 origins"):
-        hits_any_of(np.zeros((7, 3)), np.zeros((R, 3)), start, rt.triangles[which])
 
 
 def every_triangle(tris, origins, direction):

@@ -36,9 +36,11 @@ kind its profile does not weigh.  Built-in profiles (``silcount/models/cycles/``
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
@@ -74,6 +76,32 @@ class Profile:
                     raise BadArgument(f"cycle profile {self.name} has no weight for {', '.join(unweighed)}")
                 total += w[k] * v
         return total
+
+
+def cycles_many(profiles: Sequence[Profile], tallies: Sequence[Mapping[str, int]]) -> list[np.ndarray]:
+    """:meth:`Profile.cycles` of each tally under each profile (one array per profile): the same doubles, bit
+    for bit, summed by numpy a column at a time.
+
+    Tallies are grouped by their kinds' order and each group's weighted counts are added kind by kind in that
+    order, as :meth:`Profile.cycles` adds them (a zero count adds ``+0.0``, which changes no sum of
+    non-negative terms; the products are of the same doubles, an ``int`` count rounding to the same double in
+    both); a kind counted but not weighed fails the same way, naming it.
+    """
+    out = [np.zeros(len(tallies)) for _ in profiles]
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for i, tally in enumerate(tallies):
+        groups.setdefault(tuple(tally), []).append(i)
+    for kinds, rows in groups.items():
+        counts = np.array([[tallies[i][k] for k in kinds] for i in rows], dtype=np.float64).reshape(len(rows), -1)
+        for profile, column in zip(profiles, out, strict=True):
+            total = np.zeros(len(rows))
+            for j, k in enumerate(kinds):
+                if k in profile.weights:
+                    total += profile.weights[k] * counts[:, j]
+                elif np.any(counts[:, j]):
+                    profile.cycles(tallies[rows[int(np.flatnonzero(counts[:, j])[0])]])  # raises, naming the kinds
+            column[rows] = total
+    return out
 
 
 def cycles_dir() -> Path:

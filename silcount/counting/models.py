@@ -69,13 +69,15 @@ def paper_tally(name: str, steps: dict[str, int], params: dict[str, int | float]
     model does not annotate cost nothing in this model (they are reported in
     ``steps``); every kind of :data:`KINDS` is present in the result.
     """
+    import sympy as sp
+
     costs = step_costs(name)
     sym = symbols()
-    subs = {sym[k]: v for k, v in params.items() if k in sym}
+    subs = {sym[k]: sp.sympify(v) for k, v in params.items() if k in sym}  # as subs() converts them
     total: dict[str, int] = {k: 0 for k in KINDS}
     for step, count in steps.items():
         for kind, cost in costs.get(step, {}).items():
-            value = cost if cost.is_number else cost.subs(subs)  # a constant needs no substitution
+            value = cost if cost.is_number else cost.xreplace(subs)  # numbers for symbols: Add, Mul evaluate
             if not value.is_number:
                 raise ValueError(f"cost of {name}:{step}:{kind} = {cost} needs {value.free_symbols}")
             total[kind] = total.get(kind, 0) + int(count) * int(value)

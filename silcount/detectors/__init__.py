@@ -119,15 +119,18 @@ def detect_many(
 ) -> list[Silhouette]:
     """:func:`detect` for each of ``lights``, identical results, in one pass where the algorithm allows.
 
-    The ``reference`` detector's ``fast`` engine packs 64 lights' facing flags
-    into one word per face and finds every light's silhouette in one XOR pass
-    over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`); the
-    others run per light.
+    A detector whose module has ``detect_many(mesh, lights, variant)`` batches its ``fast`` engine: the
+    ``reference`` packs 64 lights' facing flags into one word per face and finds every light's silhouette
+    in one XOR pass over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`); EESD tests every
+    light's rays against their edges' own faces in one pass over the edges
+    (:func:`silcount.detectors.eesd_rays.own_blocked`).  The others, and every ``naive`` engine, run per
+    light.  ``tests/test_detect_many.py`` checks every field against :func:`detect`.
     """
     _check(name, variant, engine)
     lights = list(lights)
-    if name == "reference" and engine == "fast":
-        return reference.detect_many(mesh, lights, variant)
+    many = getattr(_BY_NAME[name], "detect_many", None)
+    if engine == "fast" and many is not None:
+        return many(mesh, lights, variant)
     return [REGISTRY[name](mesh, light, variant=variant, engine=engine) for light in lights]
 
 

@@ -65,7 +65,7 @@ _CHUNK = 1 << 16  # faces or edges per parallel chunk; a mesh of one chunk runs 
 
 
 @njit(cache=True)
-def _facing_range(p0, nrm, light, directional, flags, lo, hi):  # pragma: no cover - compiled
+def facing_range(p0, nrm, light, directional, flags, lo, hi):  # pragma: no cover - compiled
     """Flags of faces ``lo .. hi - 1`` into ``flags``; returns their ties."""
     lx, ly, lz = light[0], light[1], light[2]
     t = 0
@@ -86,7 +86,7 @@ def _facing_parallel(p0, nrm, light, directional, flags):  # pragma: no cover - 
     n_chunks = (F + _CHUNK - 1) // _CHUNK
     ties = np.zeros(n_chunks, dtype=np.int64)
     for c in prange(n_chunks):
-        ties[c] = _facing_range(p0, nrm, light, directional, flags, c * _CHUNK, min(F, (c + 1) * _CHUNK))
+        ties[c] = facing_range(p0, nrm, light, directional, flags, c * _CHUNK, min(F, (c + 1) * _CHUNK))
     return ties.sum()
 
 
@@ -94,7 +94,7 @@ def _facing_kernel(p0, nrm, light, directional) -> tuple[np.ndarray, int]:
     """Light-facing flags and ties; one chunk runs serially (waking the thread pool costs more than it saves)."""
     flags = np.empty(p0.shape[0], dtype=np.bool_)
     if p0.shape[0] <= _CHUNK:
-        return flags, _facing_range(p0, nrm, light, directional, flags, 0, p0.shape[0])
+        return flags, facing_range(p0, nrm, light, directional, flags, 0, p0.shape[0])
     return flags, _facing_parallel(p0, nrm, light, directional, flags)
 
 

@@ -31,12 +31,16 @@ is ``k ^ 1``; this is a relabelling of the packed keys, not a different rule.
 from __future__ import annotations
 
 import weakref
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter
+from silcount.detectors.adjacency import facing_range
+from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
 
@@ -192,6 +196,47 @@ def replay(
     return Replay(live, int(searched), int(examined), int(deleted), int(added), int(shifted))
 
 
+@njit(cache=True, nogil=True)
+def _facing_replay(start, side_key, p0, nrm, light, directional, n_keys, initial):  # pragma: no cover - compiled
+    """One light: the polygons' facing flags and ties (:func:`.adjacency.facing_flags`' arithmetic), then
+    :func:`_replay` over them; the GIL released, so that lights run on threads side by side."""
+    flags = np.empty(p0.shape[0], dtype=np.bool_)
+    ties = facing_range(p0, nrm, light, directional, flags, 0, p0.shape[0])
+    return (flags, ties) + _replay(start, side_key, flags, n_keys, initial)
+
+
+def replay_many(
+    start: np.ndarray,
+    side_key: np.ndarray,
+    p0: np.ndarray,
+    nrm: np.ndarray,
+    lights: list[Light],
+    n_keys: int,
+    initial: np.ndarray | None = None,
+) -> list[tuple[np.ndarray, int, Replay]]:
+    """:func:`replay` for each light, the polygons' facing flags computed from their representative faces'
+    ``p0`` and normals ``nrm`` as :func:`.adjacency.facing_flags` computes them: (flags, ties, Replay) per
+    light, the lights spread over numba's thread count of threads (each light's replay is sequential)."""
+    init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
+    args = (
+        np.ascontiguousarray(start, dtype=np.int64),
+        np.ascontiguousarray(side_key, dtype=np.int64),
+        np.ascontiguousarray(p0, dtype=np.float64),
+        np.ascontiguousarray(nrm, dtype=np.float64),
+    )
+
+    def one(light: Light) -> tuple[np.ndarray, int, Replay]:
+        src = np.asarray(light.vector, dtype=np.float64)
+        flags, ties, *r = _facing_replay(*args, src, isinstance(light, DirectionalLight), int(n_keys), init)
+        return flags, int(ties), Replay(r[0], *(int(x) for x in r[1:]))
+
+    threads = max(1, min(numba.get_num_threads(), len(lights)))
+    if threads == 1:
+        return [one(light) for light in lights]
+    with ThreadPoolExecutor(threads) as pool:
+        return list(pool.map(one, lights))
+
+
 @njit(cache=True)
 def _plain_array_s(start, side_from, side_to, facing, V):  # pragma: no cover - compiled
     """TA's array S over the sides of the light-facing faces (or polygons), uncounted; the live keys ``a V + b``."""
@@ -292,6 +337,7 @@ __all__ = [
     "CountedEdgeArray",
     "Replay",
     "replay",
+    "replay_many",
     "plain_array_s",
     "directed_keys",
     "side_keys",

@@ -90,20 +90,20 @@ The counted routines (``naive`` arithmetic, fixed costs) are in :mod:`.eesd_coun
 Engines
 -------
 ``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
-same points with numpy in the same order of operations and finds the edges
-with :class:`silcount.mesh.raytrace.RayTracer`, casting only the rays that matter:
-a ray that meets one of its own edge's faces (the same Moller-Trumbore test,
-bit for bit, via :func:`silcount.mesh.raytrace.hits_any_of` over a copy of each
-edge's own triangles laid out in edge order) is blocked in the full loop too, so only
-the rays that miss their own faces are cast through the grid: on a closed
-mesh these are exactly the edges whose faces lie on one side as seen from
-the light, i.e. the reference silhouette (10,720 rays for 1,556,880 edges on
-the 1M-face subdivided bunny).  ``notes['rays_cast']`` (fast engine only).
-A directional light's rays are parallel lines, so instead of the 3-D grid
-they meet one 2-D grid of the triangles projected along them, built per
-light (:func:`silcount.mesh.parallel_rays.lines_any_hit`): the same test on the
-triangles of one cell.  Over the shared corpus's 51 meshes x 64 lights, the
-same answers for every edge and 3.3 s against 8.4 s on one thread.
+same points compiled in the same order of operations and casts only the rays
+that matter: a ray that meets one of its own edge's faces (the same
+Moller-Trumbore test, bit for bit, over a copy of each edge's own triangles laid
+out in edge order, the other face first: :func:`.eesd_rays.own_blocked`, every
+light of a :func:`detect_many` batch in one pass over the edges) is blocked in
+the full loop too, so only the rays that miss their own faces are cast against
+every triangle: on a closed mesh these are exactly the edges whose faces lie
+on one side as seen from the light, i.e. the reference silhouette (10,720 rays
+for 1,556,880 edges on the 1M-face subdivided bunny).  ``notes['rays_cast']``
+(fast engine only).  A point light's rays go through
+:class:`silcount.mesh.raytrace.RayTracer`'s 3-D grid; a directional light's
+are parallel lines, so they meet one 2-D grid of the triangles projected along
+them, built per light (:func:`silcount.mesh.parallel_rays.lines_any_hit`): the
+same test on the triangles of one cell.
 
 ``literal``'s exact-zero plane tests are found by
 :func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
@@ -136,9 +136,11 @@ from silcount.detectors.eesd_counted import (
 from silcount.detectors.eesd_rays import (
     face_planes,
     fan_triangles,
+    is_directional,
     light_values,
     outward_points_and_rays,
-    own_triangles,
+    outward_points_of,
+    own_blocked,
     plain_edge_ids,
     ray_data,
     tracer,
@@ -148,7 +150,6 @@ from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.parallel_rays import lines_any_hit
-from silcount.mesh.raytrace import hits_any_of
 
 NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
 LABEL = "EESD"
@@ -221,29 +222,37 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     return ids, steps, dict(counter), notes
 
 
-def _fast_intended(mesh: Mesh, light: Light):
+def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
+    """The ``fast`` engine's runs for lights of one kind: (ids, steps, true, notes) per light."""
+    # 1. Each ray against its own edge's faces (the same test, bit for bit), every light in one pass over the
+    #    edges.  A hit there is a hit in the full face loop, so those edges are settled without casting.
+    own = own_blocked(mesh, lights)
+    out = []
+    for j, light in enumerate(lights):
+        # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
+        #    directional light's rays are parallel lines, answered in the plane perpendicular to them.
+        cand = np.flatnonzero(~own[:, j])
+        p = outward_points_of(mesh, light, cand)
+        if isinstance(light, DirectionalLight):
+            hit = lines_any_hit(p, light_values(light), fan_triangles(mesh))
+        else:
+            L = light_values(light)
+            hit = tracer(mesh).any_hit(np.broadcast_to(L, p.shape), p - L, 0.0, np.inf)
+        ids = cand[~hit]
+        out.append((ids, *_intended_tally(mesh, light, int(ids.size)), {"rays_cast": int(cand.size)}))
+    return out
+
+
+def _intended_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict[str, int], dict[str, int]]:
+    """Steps and ``true`` tally of :func:`_naive`'s ``intended`` loops with ``k`` edges added (every face is
+    tested for every edge: the loops have no data-dependent bound)."""
     E, F = mesh.n_edges, mesh.n_faces
-    data = ray_data(mesh)
-    p, origins, directions, t_min, t_max = outward_points_and_rays(mesh, light)
-    # 1. Each ray against its own edge's faces (the same test, bit for bit).  A hit there is a hit
-    #    in the full face loop, so those edges are settled without casting.
-    pair_start, pair_triangles = own_triangles(mesh)
-    blocked = hits_any_of(origins, directions, pair_start, pair_triangles, t_min, t_max)
-    # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
-    #    directional light's rays are parallel lines: one 2-D grid of the triangles projected along them
-    #    answers each with one cell (the same test on the triangles its point's cell lists).
-    cand = np.flatnonzero(~blocked)
-    if isinstance(light, DirectionalLight):
-        blocked = lines_any_hit(origins, light_values(light), fan_triangles(mesh), done=blocked)
-    else:
-        blocked[cand] = tracer(mesh).any_hit(origins[cand], directions[cand], t_min, t_max)
-    ids = np.flatnonzero(~blocked)
-    T = data["tri_face"].size
+    T = ray_data(mesh)["tri_face"].size
     steps = {
         "extend": E,
         "ray": E,
         "intersection": E * F,
-        "add": int(ids.size),
+        "add": k,
         "triangle_test": E * T,
         "check_hits": E,
     }
@@ -257,8 +266,8 @@ def _fast_intended(mesh: Mesh, light: Light):
     add_scaled(true, {"read": TRIANGLE_READS}, E * T)
     add_scaled(true, HIT_COUNT_COST, E * T)
     add_scaled(true, CHECK_COST, E)
-    add_scaled(true, ADD_COST, ids.size)
-    return ids, steps, true, {"rays_cast": int(cand.size)}
+    add_scaled(true, ADD_COST, k)
+    return steps, true
 
 
 def _fast_literal(mesh: Mesh, light: Light):
@@ -279,14 +288,7 @@ def _fast_literal(mesh: Mesh, light: Light):
     return ids, steps, true, {"on_plane_pairs": int(zeros.sum())}
 
 
-def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
-    """EESD's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
-    if engine == "naive":
-        ids, steps, true, notes = _naive(mesh, light, variant)
-    elif variant == "literal":
-        ids, steps, true, notes = _fast_literal(mesh, light)
-    else:
-        ids, steps, true, notes = _fast_intended(mesh, light)
+def _silhouette(mesh: Mesh, light: Light, variant: str, engine: str, ids, steps, true, notes) -> Silhouette:
     flags, ties = shared_facing_flags(mesh, light)
     if variant == "literal":
         notes["S_length"] = steps["add"]
@@ -295,8 +297,34 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """EESD's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
+    if engine == "naive":
+        got = _naive(mesh, light, variant)
+    elif variant == "literal":
+        got = _fast_literal(mesh, light)
+    else:
+        (got,) = _fast_intended(mesh, [light])
+    return _silhouette(mesh, light, variant, engine, *got)
+
+
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
+    """:func:`detect` (``fast``) for each light: ``intended``'s own-face test for every light of a kind in
+    one pass over the edges (:func:`.eesd_rays.own_blocked`), the same answers and tallies."""
+    if variant == "literal":
+        return [detect(mesh, light, variant) for light in lights]
+    out: list[Silhouette | None] = [None] * len(lights)
+    for kind in (True, False):
+        which = [i for i, light in enumerate(lights) if is_directional(light) == kind]
+        if which:
+            for i, got in zip(which, _fast_intended(mesh, [lights[i] for i in which]), strict=True):
+                out[i] = _silhouette(mesh, lights[i], variant, "fast", *got)
+    return out  # type: ignore[return-value]
+
+
 __all__ = [
     "detect",
+    "detect_many",
     "plain_edge_ids",
     "EPS",
     "outward_points_and_rays",

@@ -16,7 +16,7 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from silcount.detectors.eesd_counted import EPS
 from silcount.mesh.lights import DirectionalLight, Light
@@ -61,38 +61,75 @@ def tracer(mesh: Mesh) -> RayTracer:
     return data["tracer"]
 
 
+_ALL = np.zeros(0, dtype=np.int64)  # :func:`_outward`'s "every edge"
+
+
+def is_directional(light: Light) -> bool:
+    return isinstance(light, DirectionalLight)
+
+
 def light_values(light: Light) -> np.ndarray:
     """The light's direction or position, as the counted routines read it."""
     return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
 
 
-@njit(cache=True, error_model="numpy")  # an end-on edge (w = 0) divides by zero: inf or NaN, as numpy's
-def _outward(V, edges, apex, L, directional, eps):  # pragma: no cover - compiled
-    """``P`` of every edge: :func:`.eesd_counted.counted_outward_point`, operation for operation."""
-    E = edges.shape[0]
-    p = np.empty((E, 3))
-    for i in range(E):
-        a, b, c = edges[i, 0], edges[i, 1], apex[i]
-        m0 = (V[a, 0] + V[b, 0]) * 0.5
-        m1 = (V[a, 1] + V[b, 1]) * 0.5
-        m2 = (V[a, 2] + V[b, 2]) * 0.5
-        e0, e1, e2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
-        if directional:
-            d0, d1, d2 = L[0], L[1], L[2]
-        else:
-            d0, d1, d2 = m0 - L[0], m1 - L[1], m2 - L[2]
-        w0 = d1 * e2 - d2 * e1
-        w1 = d2 * e0 - d0 * e2
-        w2 = d0 * e1 - d1 * e0
-        side = (V[c, 0] - m0) * w0 + (V[c, 1] - m1) * w1 + (V[c, 2] - m2) * w2
-        sgn = -1.0 if side > 0.0 else 1.0
-        ee = e0 * e0 + e1 * e1 + e2 * e2
-        ww = w0 * w0 + w1 * w1 + w2 * w2
-        scale = eps * np.sqrt(ee / ww) * sgn
-        p[i, 0] = m0 + w0 * scale
-        p[i, 1] = m1 + w1 * scale
-        p[i, 2] = m2 + w2 * scale
+@njit(cache=True, error_model="numpy", inline="always")  # an end-on edge (w = 0): inf or NaN, as numpy's
+def _outward_point(V, a, b, c, L, directional, eps):  # pragma: no cover - compiled
+    """``P`` of edge ``a b`` with far corner ``c``: :func:`.eesd_counted.counted_outward_point`, operation
+    for operation."""
+    m0 = (V[a, 0] + V[b, 0]) * 0.5
+    m1 = (V[a, 1] + V[b, 1]) * 0.5
+    m2 = (V[a, 2] + V[b, 2]) * 0.5
+    e0, e1, e2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
+    if directional:
+        d0, d1, d2 = L[0], L[1], L[2]
+    else:
+        d0, d1, d2 = m0 - L[0], m1 - L[1], m2 - L[2]
+    w0 = d1 * e2 - d2 * e1
+    w1 = d2 * e0 - d0 * e2
+    w2 = d0 * e1 - d1 * e0
+    side = (V[c, 0] - m0) * w0 + (V[c, 1] - m1) * w1 + (V[c, 2] - m2) * w2
+    sgn = -1.0 if side > 0.0 else 1.0
+    ee = e0 * e0 + e1 * e1 + e2 * e2
+    ww = w0 * w0 + w1 * w1 + w2 * w2
+    scale = eps * np.sqrt(ee / ww) * sgn
+    return m0 + w0 * scale, m1 + w1 * scale, m2 + w2 * scale
+
+
+@njit(cache=True, error_model="numpy")
+def _outward(V, edges, apex, which, L, directional, eps):  # pragma: no cover - compiled
+    """``P`` of the edges ``which`` (all edges when ``which`` is empty and there are edges)."""
+    n = which.size if which.size else edges.shape[0]
+    p = np.empty((n, 3))
+    for k in range(n):
+        i = which[k] if which.size else k
+        p[k, 0], p[k, 1], p[k, 2] = _outward_point(V, edges[i, 0], edges[i, 1], apex[i], L, directional, eps)
     return p
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _own_blocked(V, edges, apex, Ls, directional, eps, pair_start, tris):  # pragma: no cover - compiled
+    """(E, n) bool: does light ``j``'s ray of edge ``e`` meet one of the edge's own triangles
+    (``tris[pair_start[e]:pair_start[e + 1]]``)?  Edge-major, so an edge's triangles are read once for
+    every light; the ray as :func:`outward_points_and_rays` makes it, the test the tracer's."""
+    E, n = edges.shape[0], Ls.shape[0]
+    out = np.zeros((E, n), dtype=np.bool_)
+    for e in prange(E):
+        a, b, c = edges[e, 0], edges[e, 1], apex[e]
+        for j in range(n):
+            L = Ls[j]
+            p0, p1, p2 = _outward_point(V, a, b, c, L, directional, eps)
+            if directional:
+                o0, o1, o2, d0, d1, d2, lo = p0, p1, p2, L[0], L[1], L[2], -np.inf
+            else:
+                o0, o1, o2, d0, d1, d2, lo = L[0], L[1], L[2], p0 - L[0], p1 - L[1], p2 - L[2], 0.0
+            for i in range(pair_start[e], pair_start[e + 1]):
+                tr = tris[i]
+                if moller_trumbore(o0, o1, o2, d0, d1, d2, tr[0, 0], tr[0, 1], tr[0, 2], tr[1, 0], tr[1, 1],
+                                   tr[1, 2], tr[2, 0], tr[2, 1], tr[2, 2], lo, np.inf)[0]:  # fmt: skip
+                    out[e, j] = True
+                    break
+    return out
 
 
 def outward_points_and_rays(mesh: Mesh, light: Light):
@@ -102,22 +139,49 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
     """
     L = light_values(light)
     directional = isinstance(light, DirectionalLight)
-    p = _outward(mesh.vertices, mesh.edges, ray_data(mesh)["apex"], L, directional, EPS)
+    p = _outward(mesh.vertices, mesh.edges, ray_data(mesh)["apex"], _ALL, L, directional, EPS)
     if directional:
         return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
     return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
+
+
+def outward_points_of(mesh: Mesh, light: Light, which: np.ndarray) -> np.ndarray:
+    """``P`` (k, 3) of the edges ``which`` (k > 0), bit for bit as :func:`outward_points_and_rays` gives them."""
+    which = np.ascontiguousarray(which, dtype=np.int64)
+    if which.size == 0:
+        return np.empty((0, 3))
+    data = ray_data(mesh)
+    return _outward(mesh.vertices, mesh.edges, data["apex"], which, light_values(light), is_directional(light), EPS)
+
+
+def own_blocked(mesh: Mesh, lights: list[Light]) -> np.ndarray:
+    """(E, n) bool: light ``j``'s ray of edge ``e`` (:func:`outward_points_and_rays`' ray) meets one of the
+    edge's own faces (:func:`own_triangles`) by :func:`silcount.mesh.raytrace.moller_trumbore`, for lights all
+    directional or all point lights, every light in one pass over the edges."""
+    kinds = {is_directional(light) for light in lights}
+    if len(kinds) != 1:
+        raise ValueError("own_blocked takes lights of one kind")
+    pair_start, triangles = own_triangles(mesh)
+    Ls = np.ascontiguousarray([light_values(light) for light in lights], dtype=np.float64)
+    data = ray_data(mesh)
+    return _own_blocked(mesh.vertices, mesh.edges, data["apex"], Ls, kinds.pop(), EPS, pair_start, triangles)
 
 
 def own_triangles(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Every edge's own fan triangles (those of its faces), edges ascending, as a CSR: each edge's start,
     and the triangles themselves (P, 3, 3), the tracer's fan triangles copied in this order (cached with
     the mesh; the grid is not built for them).  The copy costs 72 bytes a pair, about three times the
-    tracer's triangles, and is what makes the own-face pass stream instead of gathering
-    (:func:`silcount.mesh.raytrace.hits_any_of`)."""
+    tracer's triangles, and is what makes the own-face pass stream instead of gathering.
+
+    An edge's faces come last side first: ``P`` is pushed away from the first face ``f1``, so a blocked
+    ray (most of them) meets the other face, and testing it first usually ends the search after one
+    triangle (the answer, any hit, does not depend on the order)."""
     data = ray_data(mesh)
     if "own_triangles" not in data:
         start, order = mesh.edge_sides
-        side_face = mesh.side_face[order]  # sides in edge order
+        edge = np.repeat(np.arange(mesh.n_edges), np.diff(start))
+        backwards = start[edge] + start[edge + 1] - 1 - np.arange(order.size)  # each edge's sides reversed
+        side_face = mesh.side_face[order[backwards]]  # sides in edge order, last side first
         n_tri = np.diff(data["tri_start"])[side_face]
         pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
             np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
@@ -208,6 +272,8 @@ __all__ = [
     "tracer",
     "light_values",
     "outward_points_and_rays",
+    "outward_points_of",
+    "own_blocked",
     "own_triangles",
     "face_planes",
     "plain_edge_ids",

@@ -42,9 +42,17 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import edge_ids_of, facing_flags, shared_facing_flags
+from silcount.detectors.adjacency import edge_faces, edge_ids_of, facing_flags, many_edge_ids, shared_facing_flags
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
-from silcount.detectors.edge_array import CountedEdgeArray, keys_to_directed, plain_array_s, replay, side_keys
+from silcount.detectors.edge_array import (
+    CountedEdgeArray,
+    Replay,
+    keys_to_directed,
+    plain_array_s,
+    replay,
+    replay_many,
+    side_keys,
+)
 from silcount.detectors.result import Silhouette
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
 from silcount.mesh.coplanar import Merge, merge
@@ -90,10 +98,20 @@ def _naive(mesh: Mesh, light: Light, mg: Merge):
     return EngineRun(ids, steps, dict(counter), ties, poly_facing, pairs)
 
 
-def _fast(mesh: Mesh, light: Light, mg: Merge):
+def _fast(mesh: Mesh, light: Light, mg: Merge) -> EngineRun:
     poly_facing, ties = facing_flags(mesh, light, mg.rep)
-    keys = side_keys(mesh)[mg.poly_sides]
-    r = replay(mg.poly_start, keys, poly_facing, 2 * mesh.n_edges)
+    return _run(
+        mesh, light, mg, poly_facing, ties, replay(mg.poly_start, _poly_keys(mesh, mg), poly_facing, 2 * mesh.n_edges)
+    )
+
+
+def _poly_keys(mesh: Mesh, mg: Merge) -> np.ndarray:
+    """The directed keys of the polygons' boundary sides, polygon by polygon."""
+    return side_keys(mesh)[mg.poly_sides]
+
+
+def _run(mesh: Mesh, light: Light, mg: Merge, poly_facing: np.ndarray, ties: int, r: Replay) -> EngineRun:
+    """The ``fast`` engine's run from the polygons' flags and S's replay over them."""
     ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
     P = mg.n_polygons
     steps = {"visibility": P, "search_S": r.searched, "delete": r.deleted, "add": r.added, "shift": r.shifted}
@@ -107,18 +125,39 @@ def _fast(mesh: Mesh, light: Light, mg: Merge):
     return EngineRun(ids, steps, true, ties, poly_facing, pairs)
 
 
-def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
-    """HSD's silhouette: TA over the merged polygons; the merge's cost is in ``notes['merge']``."""
-    mg = merge(mesh, CRITERION[variant])
-    run = (_naive if engine == "naive" else _fast)(mesh, light, mg)
-    inside = int(np.count_nonzero(mg.interior[edge_ids_of(mesh, shared_facing_flags(mesh, light)[0])]))
+def _finish(mesh: Mesh, light: Light, variant: str, engine: str, mg: Merge, run: EngineRun, reference) -> Silhouette:
+    """The :class:`Silhouette` of ``run``; ``reference``: the light's reference edge ids (ascending)."""
+    inside = int(np.count_nonzero(mg.interior[reference]))
     run.notes.update({
         "merge": mg.summary(),
         "representative": "lowest-index face of each polygon",
         "reference_edges_inside_polygons": inside,
     })  # fmt: skip
+    assert isinstance(run.is_facing, np.ndarray)  # both engines give the polygons' flags
     run.is_facing = run.is_facing[mg.region]  # the polygons' flags, per face
     return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL, paper_params=mg.paper_params())
+
+
+def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "fast") -> Silhouette:
+    """HSD's silhouette: TA over the merged polygons; the merge's cost is in ``notes['merge']``."""
+    mg = merge(mesh, CRITERION[variant])
+    run = (_naive if engine == "naive" else _fast)(mesh, light, mg)
+    reference = edge_ids_of(mesh, shared_facing_flags(mesh, light)[0])
+    return _finish(mesh, light, variant, engine, mg, run, reference)
+
+
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
+    """:func:`detect` (``fast``) for each light, the lights' replays of S on threads side by side
+    (:func:`.edge_array.replay_many`) and their reference edges in one pass
+    (:func:`.adjacency.many_edge_ids`): the same answers and tallies."""
+    mg = merge(mesh, CRITERION[variant])
+    p0, nrm = edge_faces(mesh)[:2]
+    many = replay_many(mg.poly_start, _poly_keys(mesh, mg), p0[mg.rep], nrm[mg.rep], lights, 2 * mesh.n_edges)
+    refs = many_edge_ids(mesh, lights)
+    return [
+        _finish(mesh, light, variant, "fast", mg, _run(mesh, light, mg, *got), ref[0])
+        for light, got, ref in zip(lights, many, refs, strict=True)
+    ]
 
 
 def plain_setup(mesh: Mesh) -> None:

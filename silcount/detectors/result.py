@@ -17,6 +17,7 @@ from functools import cache, cached_property
 from typing import Any
 
 import numpy as np
+from numba import njit
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
@@ -101,18 +102,31 @@ class Silhouette:
         return compare_with_reference(self.mesh, self.light, self.edge_ids)
 
 
+@njit(cache=True)
+def _common(a, b):  # pragma: no cover - compiled
+    """How many ids two ascending arrays of distinct ids share: one merge pass."""
+    i = j = n = 0
+    while i < a.size and j < b.size:
+        if a[i] < b[j]:
+            i += 1
+        elif a[i] > b[j]:
+            j += 1
+        else:
+            n += 1
+            i += 1
+            j += 1
+    return n
+
+
 def differences(found: np.ndarray, reference: np.ndarray) -> dict[str, int]:
     """How ascending distinct edge ids ``found`` differ from ``reference`` (counts of edges).
 
     ``missed_edges``: reference edges not found; ``extra_edges``: edges found
     that the reference does not have; ``disagreement_with_reference``: both.
     """
-    found, reference = np.asarray(found), np.asarray(reference)
-    if found.size == 0 or reference.size == 0:
-        common = 0
-    else:  # both ascending: each reference id's place among the found ones, and whether it is there
-        at = np.minimum(np.searchsorted(found, reference), found.size - 1)
-        common = int(np.count_nonzero(found[at] == reference))
+    found = np.ascontiguousarray(found, dtype=np.int64)
+    reference = np.ascontiguousarray(reference, dtype=np.int64)
+    common = int(_common(found, reference))
     missed, extra = int(reference.size) - common, int(found.size) - common
     return {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
 
@@ -123,18 +137,22 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 
 @cache
-def _unit_costs(model: str, params: tuple[tuple[str, float], ...], step: str) -> tuple[tuple[str, int], ...]:
-    """The ``paper`` cost of one run of ``step`` at ``params`` (sympy runs once per key)."""
-    return tuple(models.paper_tally(model, {step: 1}, dict(params)).items())
+def _units(model: str, params: tuple[tuple[str, float], ...]) -> dict[str, tuple[tuple[str, int], ...]]:
+    """The ``paper`` cost of one run of each step at ``params``, filled in as steps are asked for (sympy runs
+    once per model, parameters and step)."""
+    return {}
 
 
 def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> dict[str, int]:
     """:func:`silcount.counting.models.paper_tally`, memoised: ``sum(count x unit cost)``, the same integers."""
-    key = tuple(sorted(params.items()))
+    units = _units(model, tuple(sorted(params.items())))
     total = {k: 0 for k in KINDS}
     for step, count in steps.items():
-        for kind, unit in _unit_costs(model, key, step):
-            total[kind] = total.get(kind, 0) + int(count) * unit
+        unit = units.get(step)
+        if unit is None:
+            unit = units[step] = tuple(models.paper_tally(model, {step: 1}, params).items())
+        for kind, c in unit:
+            total[kind] = total.get(kind, 0) + int(count) * c
     return total
 
 

@@ -57,7 +57,7 @@ from __future__ import annotations
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
-from silcount.detectors.adjacency import facing_flags, shared_facing_flags
+from silcount.detectors.adjacency import edge_faces, facing_flags, shared_facing_flags
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
@@ -70,11 +70,13 @@ from silcount.detectors.base import (
 )
 from silcount.detectors.edge_array import (
     CountedEdgeArray,
+    Replay,
     first_orientation,
     keys_to_directed,
     packed_edges,
     plain_array_s,
     replay,
+    replay_many,
     side_keys,
 )
 from silcount.mesh.lights import Light
@@ -158,12 +160,20 @@ def edges_in(S: CountedEdgeArray, mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     return packed_edges(mesh, S.keys())
 
 
-def _fast(mesh: Mesh, light: Light, variant: str):
+def _fast(mesh: Mesh, light: Light, variant: str) -> EngineRun:
     is_facing, ties = shared_facing_flags(mesh, light)
+    r = replay(mesh.face_start, side_keys(mesh), is_facing, 2 * mesh.n_edges, _initial(mesh, variant))
+    return _run(mesh, light, variant, is_facing, ties, r)
+
+
+def _initial(mesh: Mesh, variant: str) -> np.ndarray | None:
+    """What S holds before the face loop: every edge (``literal``: "an array of all edges"), else nothing."""
+    return 2 * np.arange(mesh.n_edges, dtype=np.int64) if variant == "literal" else None
+
+
+def _run(mesh: Mesh, light: Light, variant: str, is_facing: np.ndarray, ties: int, r: Replay) -> EngineRun:
+    """The ``fast`` engine's run from the faces' flags and S's replay over them."""
     E, F = mesh.n_edges, mesh.n_faces
-    keys = side_keys(mesh)
-    initial = 2 * np.arange(E, dtype=np.int64) if variant == "literal" else None
-    r = replay(mesh.face_start, keys, is_facing, 2 * E, initial)
     ids, pairs = keys_to_directed(mesh.edges, r.live_keys)
     steps = {"visibility": F, "search_S": r.searched, "delete": r.deleted, "add": r.added, "shift": r.shifted}
     true: dict[str, int] = {}
@@ -192,8 +202,9 @@ def finish(
     duplicates noted."""
     ids, pairs = run.edge_ids, run.pairs
     assert pairs is not None
+    run.edge_ids = unique_ids(ids)  # sorted once; S's order stays in ``ids`` for the orientation
     run.notes["S_length"] = int(ids.size)
-    run.notes["duplicates_in_S"] = int(ids.size - unique_ids(ids).size)
+    run.notes["duplicates_in_S"] = int(ids.size - run.edge_ids.size)
     return make_silhouette(
         mesh,
         light,
@@ -211,6 +222,17 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     """TA's silhouette of ``mesh`` for ``light`` with its steps and both tallies."""
     run = (_naive if engine == "naive" else _fast)(mesh, light, variant)
     return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
+
+
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
+    """:func:`detect` (``fast``) for each light, the lights' replays of S on threads side by side
+    (:func:`.edge_array.replay_many`): the same answers and tallies."""
+    p0, nrm = edge_faces(mesh)[:2]
+    many = replay_many(mesh.face_start, side_keys(mesh), p0, nrm, lights, 2 * mesh.n_edges, _initial(mesh, variant))
+    return [
+        finish(mesh, light, NAME, variant, "fast", _run(mesh, light, variant, *got), PAPER_MODEL)
+        for light, got in zip(lights, many, strict=True)
+    ]
 
 
 def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:

@@ -194,32 +194,6 @@ def _hits_one_each(origins, directions, tris, which, t_min, t_max):
     return out
 
 
-@nb.njit(cache=True, parallel=True, error_model="numpy")
-def _hits_any_of(origins, directions, start, tris, t_min, t_max):
-    """Ray ``r`` (row ``r`` of ``origins`` and ``directions``, or their one row) against
-    ``tris[start[r]:start[r + 1]]``."""
-    R = start.size - 1
-    out = np.zeros(R, dtype=np.bool_)
-    step_o = np.int64(origins.shape[0] > 1)  # 0: every ray shares row 0
-    step_d = np.int64(directions.shape[0] > 1)
-    for r in nb.prange(R):
-        o = origins[r * step_o]
-        d = directions[r * step_d]
-        for i in range(start[r], start[r + 1]):
-            if _meets(o, d, tris[i], t_min, t_max)[0]:
-                out[r] = True
-                break
-    return out
-
-
-def _rows(a) -> np.ndarray:
-    """A (R, 3) array, or the one row of a broadcast one (all rows equal, stride 0) as (1, 3)."""
-    a = np.asarray(a, dtype=np.float64).reshape(-1, 3)
-    if a.shape[0] > 1 and a.strides[0] == 0:
-        return np.ascontiguousarray(a[:1])
-    return np.ascontiguousarray(a)
-
-
 def _per_ray(value, R: int, dtype) -> np.ndarray:
     arr = np.asarray(value, dtype=dtype)
     return np.ascontiguousarray(np.broadcast_to(arr, (R,)))
@@ -303,22 +277,4 @@ class RayTracer:
         )
 
 
-def hits_any_of(origins, directions, start, triangles, t_min: float = 0.0, t_max: float = np.inf) -> np.ndarray:
-    """(R,) bool: does ray r meet any of ``triangles[start[r]:start[r + 1]]`` (the tracer's test, no grid)?
-
-    ``triangles`` is (N, 3, 3), laid out in ray order: read in order, they stream, where the same triangles
-    reached through an index into a tracer's list are scattered reads (EESD's own faces on armadillo.obj:
-    15 ms a light through an index, 4 ms laid out).  ``origins`` and ``directions`` are (R, 3), or one row
-    broadcast to (R, 3); each ray stops at its first hit, so the answer is that of testing every triangle.
-    """
-    start = np.ascontiguousarray(start, dtype=np.int64)
-    o, d = _rows(origins), _rows(directions)
-    R = start.size - 1
-    for name, a in (("origins", o), ("directions", d)):
-        if a.shape[0] not in (1, R):
-            raise ValueError(f"{R} rays but {a.shape[0]} {name}")
-    tris = np.ascontiguousarray(np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3))
-    return _hits_any_of(o, d, start, tris, float(t_min), float(t_max))
-
-
-__all__ = ["RayTracer", "hits_any_of", "moller_trumbore"]
+__all__ = ["RayTracer", "moller_trumbore"]

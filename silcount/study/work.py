@@ -65,13 +65,12 @@ from pathlib import Path
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS
-from silcount.counting.cycles import Profile, builtin_profiles
+from silcount.counting.cycles import Profile, builtin_profiles, cycles_many
 from silcount.detectors import (
     DETECTORS,
     PLAIN_QUADRATIC,
     VISITED_STEP,
     Silhouette,
-    detect,
     detect_many,
     differences,
     plain_edge_ids,
@@ -183,25 +182,34 @@ def light_record(light: Light) -> dict:
     }
 
 
-def run_record(res: Silhouette, ref: Silhouette, settings: Settings, profiles: dict[str, Profile], edges: int) -> dict:
-    """One detector's result under one light: edges, agreement with the reference ``ref`` (the same light's),
-    edges visited (of ``edges``), steps, tallies and cycles per model."""
-    visited = res.steps.get(VISITED_STEP.get(res.detector, ""))
-    diff = differences(res.edge_ids, ref.edge_ids)
-    out: dict[str, int | float | None] = {
-        "silhouette_edges": res.n_edges,
-        "missed_edges": diff["missed_edges"],
-        "extra_edges": diff["extra_edges"],
-        "edges_visited": None if visited is None else int(visited),
-        "edges_visited_fraction": None if visited is None else int(visited) / max(edges, 1),
-    }
-    out.update({f"steps_{k}": int(v) for k, v in sorted(res.steps.items())})
-    for model, tally in sorted(res.tally.items()):
-        counts = {k: int(tally.get(k, 0)) for k in KINDS}
-        out.update({f"{model}_{k}": v for k, v in counts.items()})
-        out[f"{model}_total"] = int(sum(counts.values()))
-        for p in settings.profiles:
-            out[f"{model}_cycles_{p}"] = float(profiles[p].cycles(tally))
+def run_records(
+    results: list[Silhouette], refs: list[Silhouette], settings: Settings, profiles: dict[str, Profile], edges: int
+) -> list[dict]:
+    """One detector's result under each light: edges, agreement with the reference ``refs[i]`` (the same
+    light's), edges visited (of ``edges``), steps, tallies and cycles per model (each profile's
+    :func:`~silcount.counting.cycles.cycles_many` over the lights: the doubles ``Profile.cycles`` gives)."""
+    out = []
+    for res, ref in zip(results, refs, strict=True):
+        visited = res.steps.get(VISITED_STEP.get(res.detector, ""))
+        diff = differences(res.edge_ids, ref.edge_ids)
+        row: dict[str, int | float | None] = {
+            "silhouette_edges": res.n_edges,
+            "missed_edges": diff["missed_edges"],
+            "extra_edges": diff["extra_edges"],
+            "edges_visited": None if visited is None else int(visited),
+            "edges_visited_fraction": None if visited is None else int(visited) / max(edges, 1),
+        }
+        row.update({f"steps_{k}": int(v) for k, v in sorted(res.steps.items())})
+        for model, tally in sorted(res.tally.items()):
+            counts = {k: int(tally.get(k, 0)) for k in KINDS}
+            row.update({f"{model}_{k}": v for k, v in counts.items()})
+            row[f"{model}_total"] = int(sum(counts.values()))
+        out.append(row)
+    for model in sorted(results[0].tally) if results else ():
+        weighed = cycles_many([profiles[p] for p in settings.profiles], [res.tally[model] for res in results])
+        for p, column in zip(settings.profiles, weighed, strict=True):
+            for row, cycles in zip(out, column.tolist(), strict=True):
+                row[f"{model}_cycles_{p}"] = cycles
     return out
 
 
@@ -280,20 +288,24 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["lights"] = len(lights)
     record["silhouette_edges_mean"] = float(silhouettes.mean())
     record["silhouette_edges_std"] = float(silhouettes.std())
-    rows = []
+    by_run: list[list[dict]] = []
     builds: dict[str, dict] = {}
-    for i, light in enumerate(lights):
-        for key, name, variant in settings.runs():
+    for key, name, variant in settings.runs():  # each detector over every light at once (detect_many)
+        if name == "reference" and settings.engine == "fast":
+            results = refs
+        else:
+            results = detect_many(mesh, lights, name, variant=variant, engine=settings.engine)
+        runs = []
+        records = run_records(results, refs, settings, profiles, mesh.n_edges)
+        for i, (light, record_i) in enumerate(zip(lights, records, strict=True)):
             row = {"light": i, **light_record(light), "detector": key, "variant": variant}
             row["reference_edges"] = int(silhouettes[i])
-            if name == "reference" and settings.engine == "fast":
-                res = refs[i]
-            else:
-                res = detect(mesh, light, name, variant=variant, engine=settings.engine)
-            row.update(run_record(res, refs[i], settings, profiles, mesh.n_edges))
-            rows.append(row)
-            if key not in builds and (built := build_record(res)) is not None:
-                builds[key] = built  # light-independent: the first light's
+            row.update(record_i)
+            runs.append(row)
+        if results and (built := build_record(results[0])) is not None:
+            builds[key] = built  # light-independent: the first light's
+        by_run.append(runs)
+    rows = [runs[i] for i in range(len(lights)) for runs in by_run]  # light by light, as the report reads them
     record["build"] = builds
     by_kind: dict[str, dict[str, float | None]] = {}
     record["time_errors"] = []
