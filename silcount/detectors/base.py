@@ -11,15 +11,21 @@ so the ``fast`` engines charge exactly what the ``naive`` ones execute.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from functools import cache
+from typing import TypeVar
 
+import numba
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
 from silcount.detectors.result import EngineRun, Silhouette
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh, from_polygons
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 VARIANTS = ("intended", "literal")
 ENGINES = ("fast", "naive")
@@ -127,6 +133,16 @@ def unique_ids(ids) -> np.ndarray:
     return s[keep]
 
 
+def on_threads(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
+    """``[fn(x) for x in items]``, on numba's thread count of threads (``fn`` runs compiled code that releases
+    the GIL: each light's sequential kernel, side by side); in order, an exception raised as it was."""
+    threads = max(1, min(numba.get_num_threads(), len(items)))
+    if threads == 1:
+        return [fn(x) for x in items]
+    with ThreadPoolExecutor(threads) as pool:
+        return list(pool.map(fn, items))
+
+
 def make_silhouette(
     mesh: Mesh,
     light: Light,
@@ -183,6 +199,7 @@ __all__ = [
     "add_scaled",
     "oriented_edges",
     "make_silhouette",
+    "on_threads",
     "EngineRun",
     "unique_ids",
     "VARIANTS",

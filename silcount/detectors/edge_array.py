@@ -31,15 +31,14 @@ is ``k ^ 1``; this is a relabelling of the packed keys, not a different rule.
 from __future__ import annotations
 
 import weakref
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter
 from silcount.detectors.adjacency import facing_range
+from silcount.detectors.base import on_threads
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
@@ -230,11 +229,7 @@ def replay_many(
         flags, ties, *r = _facing_replay(*args, src, isinstance(light, DirectionalLight), int(n_keys), init)
         return flags, int(ties), Replay(r[0], *(int(x) for x in r[1:]))
 
-    threads = max(1, min(numba.get_num_threads(), len(lights)))
-    if threads == 1:
-        return [one(light) for light in lights]
-    with ThreadPoolExecutor(threads) as pool:
-        return list(pool.map(one, lights))
+    return on_threads(one, lights)
 
 
 @njit(cache=True)

@@ -118,7 +118,7 @@ import numpy as np
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import shared_facing_flags
-from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, unique_ids
+from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, on_threads, unique_ids
 from silcount.detectors.eesd_counted import (
     ADD_COST,
     CHECK_COST,
@@ -227,17 +227,20 @@ def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
     # 1. Each ray against its own edge's faces (the same test, bit for bit), every light in one pass over the
     #    edges.  A hit there is a hit in the full face loop, so those edges are settled without casting.
     own = own_blocked(mesh, lights)
+    cands = [np.flatnonzero(~own[:, j]) for j in range(len(lights))]
+    points = [outward_points_of(mesh, light, cand) for light, cand in zip(lights, cands, strict=True)]
+    # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
+    #    directional light's rays are parallel lines, answered in the plane perpendicular to them, a light a
+    #    thread; a point light's go through the tracer's grid (itself parallel).
+    if is_directional(lights[0]):
+        tris = fan_triangles(mesh)
+        hits = on_threads(lambda j: lines_any_hit(points[j], light_values(lights[j]), tris), range(len(lights)))
+    else:
+        rays = tracer(mesh)
+        hits = [rays.any_hit(np.broadcast_to(light_values(L), p.shape), p - light_values(L), 0.0, np.inf)
+                for L, p in zip(lights, points, strict=True)]  # fmt: skip
     out = []
-    for j, light in enumerate(lights):
-        # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
-        #    directional light's rays are parallel lines, answered in the plane perpendicular to them.
-        cand = np.flatnonzero(~own[:, j])
-        p = outward_points_of(mesh, light, cand)
-        if isinstance(light, DirectionalLight):
-            hit = lines_any_hit(p, light_values(light), fan_triangles(mesh))
-        else:
-            L = light_values(light)
-            hit = tracer(mesh).any_hit(np.broadcast_to(L, p.shape), p - L, 0.0, np.inf)
+    for light, cand, hit in zip(lights, cands, hits, strict=True):
         ids = cand[~hit]
         out.append((ids, *_intended_tally(mesh, light, int(ids.size)), {"rays_cast": int(cand.size)}))
     return out

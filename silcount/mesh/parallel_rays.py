@@ -33,7 +33,7 @@ def _project(x, e):  # pragma: no cover - compiled
     return x[0] * e[0] + x[1] * e[1] + x[2] * e[2]
 
 
-@nb.njit(cache=True, parallel=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
     """:func:`lines_any_hit`: a per-call 2-D grid over the triangles projected along ``d``."""
     T, R = tris.shape[0], origins.shape[0]
@@ -42,7 +42,7 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
         return out
     e1, e2 = _plane_frame(d)
     box = np.empty((T, 4))  # x lo, y lo, x hi, y hi (x lo = inf: a non-finite triangle, never listed)
-    for i in nb.prange(T):
+    for i in range(T):
         for k in range(2):
             e = e1 if k == 0 else e2
             a, b, c = _project(tris[i, 0], e), _project(tris[i, 1], e), _project(tris[i, 2], e)
@@ -65,7 +65,7 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
     cell = max(np.sqrt(area / n), 1e-12 * max(x1 - x0, y1 - y0, 1e-300))  # about one triangle's box
     while ((x1 - x0) / cell + 1.0) * ((y1 - y0) / cell + 1.0) > 4.0 * n + 16.0:
         cell *= 1.5  # at most about four cells a triangle
-    for i in nb.prange(T):  # padded: rounding of the projection, and the tracer's own margin
+    for i in range(T):  # padded: rounding of the projection, and the tracer's own margin
         if box[i, 0] < np.inf:
             for k in range(2):
                 pad = 1e-7 * cell + 4e-16 * (abs(box[i, k]) + abs(box[i, 2 + k]))
@@ -82,7 +82,7 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
     rng = np.empty((T, 4), dtype=np.int64)  # each triangle's cells: x from, x to, y from, y to (none unlisted)
     rng[:, 0] = rng[:, 2] = 0
     rng[:, 1] = rng[:, 3] = -1
-    for i in nb.prange(T):
+    for i in range(T):
         if box[i, 0] < np.inf:
             rng[i, 0], rng[i, 1] = min(int((box[i, 0] - x0) / cell), gx - 1), min(int((box[i, 2] - x0) / cell), gx - 1)
             rng[i, 2], rng[i, 3] = min(int((box[i, 1] - y0) / cell), gy - 1), min(int((box[i, 3] - y0) / cell), gy - 1)
@@ -99,7 +99,7 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
             for x in range(rng[i, 0], rng[i, 1] + 1):
                 items[fill[y * gx + x]] = i
                 fill[y * gx + x] += 1
-    for r in nb.prange(R):
+    for r in range(R):
         if out[r]:
             continue
         o = origins[r]
@@ -129,7 +129,8 @@ def lines_any_hit(origins, direction, triangles, done=None) -> np.ndarray:
     box overlaps, padded as the 3-D grid pads); a line's point in that plane selects one cell, whose
     triangles whose box holds the point are tested with :func:`moller_trumbore` for ``t`` in
     ``(-inf, inf)``, as :meth:`RayTracer.any_hit` tests the triangles along the line.  The grid is built
-    per call, ``O(T)``; a line's query is one cell instead of a walk across the 3-D grid.
+    per call, ``O(T)``; a line's query is one cell instead of a walk across the 3-D grid.  One thread, the
+    GIL released: callers run several lights side by side (:func:`silcount.detectors.eesd.detect_many`).
     """
     o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3))
     d = np.ascontiguousarray(np.asarray(direction, dtype=np.float64).reshape(3))
