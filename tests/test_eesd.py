@@ -216,7 +216,7 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
 def test_own_face_pass_is_the_tracers_test_on_each_edges_own_faces(shared_mesh, name):
     # own_blocked answers, for several lights of a kind at once, whether each edge's ray meets one of its own
     # faces.  Check it, edge by edge, against RayTracer.hits_triangle (the tracer's own test, no grid) on the
-    # edge's faces' fan triangles, taken from the mesh's sides, not from own_triangles' copy; and the outward
+    # edge's faces' fan triangles, listed here from the mesh's sides; and the outward
     # points of a subset against outward_points_and_rays, bit for bit.
     from silcount.detectors.eesd_rays import outward_points_and_rays, outward_points_of, own_blocked, ray_data, tracer
 

@@ -108,10 +108,13 @@ def _outward(V, edges, apex, which, L, directional, eps):  # pragma: no cover - 
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _own_blocked(V, edges, apex, Ls, directional, eps, pair_start, tris):  # pragma: no cover - compiled
-    """(E, n) bool: does light ``j``'s ray of edge ``e`` meet one of the edge's own triangles
-    (``tris[pair_start[e]:pair_start[e + 1]]``)?  Edge-major, so an edge's triangles are read once for
-    every light; the ray as :func:`outward_points_and_rays` makes it, the test the tracer's."""
+def _own_blocked(V, edges, apex, Ls, directional, eps, start, order, side_face, tri_start, tri_idx):  # pragma: no cover
+    """(E, n) bool: does light ``j``'s ray of edge ``e`` meet a fan triangle of one of the edge's faces?
+    Edge-major, so an edge's triangles are read once for every light (then from cache); the ray as
+    :func:`outward_points_and_rays` makes it, the test the tracer's.  An edge's faces are tried last side
+    first: ``P`` is pushed away from the first face ``f1``, so a blocked ray (most of them) meets the other
+    face, and testing it first usually ends the search after one triangle (the answer, any hit, does not
+    depend on the order)."""
     E, n = edges.shape[0], Ls.shape[0]
     out = np.zeros((E, n), dtype=np.bool_)
     for e in prange(E):
@@ -123,11 +126,15 @@ def _own_blocked(V, edges, apex, Ls, directional, eps, pair_start, tris):  # pra
                 o0, o1, o2, d0, d1, d2, lo = p0, p1, p2, L[0], L[1], L[2], -np.inf
             else:
                 o0, o1, o2, d0, d1, d2, lo = L[0], L[1], L[2], p0 - L[0], p1 - L[1], p2 - L[2], 0.0
-            for i in range(pair_start[e], pair_start[e + 1]):
-                tr = tris[i]
-                if moller_trumbore(o0, o1, o2, d0, d1, d2, tr[0, 0], tr[0, 1], tr[0, 2], tr[1, 0], tr[1, 1],
-                                   tr[1, 2], tr[2, 0], tr[2, 1], tr[2, 2], lo, np.inf)[0]:  # fmt: skip
-                    out[e, j] = True
+            for s in range(start[e + 1] - 1, start[e] - 1, -1):
+                f = side_face[order[s]]
+                for t in range(tri_start[f], tri_start[f + 1]):
+                    x, y, z = tri_idx[t, 0], tri_idx[t, 1], tri_idx[t, 2]
+                    if moller_trumbore(o0, o1, o2, d0, d1, d2, V[x, 0], V[x, 1], V[x, 2], V[y, 0], V[y, 1],
+                                       V[y, 2], V[z, 0], V[z, 1], V[z, 2], lo, np.inf)[0]:  # fmt: skip
+                        out[e, j] = True
+                        break
+                if out[e, j]:
                     break
     return out
 
@@ -156,41 +163,16 @@ def outward_points_of(mesh: Mesh, light: Light, which: np.ndarray) -> np.ndarray
 
 def own_blocked(mesh: Mesh, lights: list[Light]) -> np.ndarray:
     """(E, n) bool: light ``j``'s ray of edge ``e`` (:func:`outward_points_and_rays`' ray) meets one of the
-    edge's own faces (:func:`own_triangles`) by :func:`silcount.mesh.raytrace.moller_trumbore`, for lights all
+    edge's own faces' fan triangles by :func:`silcount.mesh.raytrace.moller_trumbore`, for lights all
     directional or all point lights, every light in one pass over the edges."""
     kinds = {is_directional(light) for light in lights}
     if len(kinds) != 1:
         raise ValueError("own_blocked takes lights of one kind")
-    pair_start, triangles = own_triangles(mesh)
     Ls = np.ascontiguousarray([light_values(light) for light in lights], dtype=np.float64)
     data = ray_data(mesh)
-    return _own_blocked(mesh.vertices, mesh.edges, data["apex"], Ls, kinds.pop(), EPS, pair_start, triangles)
-
-
-def own_triangles(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """Every edge's own fan triangles (those of its faces), edges ascending, as a CSR: each edge's start,
-    and the triangles themselves (P, 3, 3), the tracer's fan triangles copied in this order (cached with
-    the mesh; the grid is not built for them).  The copy costs 72 bytes a pair, about three times the
-    tracer's triangles, and is what makes the own-face pass stream instead of gathering.
-
-    An edge's faces come last side first: ``P`` is pushed away from the first face ``f1``, so a blocked
-    ray (most of them) meets the other face, and testing it first usually ends the search after one
-    triangle (the answer, any hit, does not depend on the order)."""
-    data = ray_data(mesh)
-    if "own_triangles" not in data:
-        start, order = mesh.edge_sides
-        edge = np.repeat(np.arange(mesh.n_edges), np.diff(start))
-        backwards = start[edge] + start[edge + 1] - 1 - np.arange(order.size)  # each edge's sides reversed
-        side_face = mesh.side_face[order[backwards]]  # sides in edge order, last side first
-        n_tri = np.diff(data["tri_start"])[side_face]
-        pair_tri = np.repeat(data["tri_start"][side_face], n_tri) + (
-            np.arange(n_tri.sum()) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
-        )
-        pair_start = np.zeros(mesh.n_edges + 1, dtype=np.int64)  # every edge has a side
-        np.cumsum(np.add.reduceat(n_tri, start[:-1]), out=pair_start[1:])
-        triangles = np.asarray(mesh.vertices[data["tri_idx"][pair_tri]], dtype=np.float64)  # the tracer's values
-        data["own_triangles"] = (pair_start, triangles)
-    return data["own_triangles"]
+    start, order = mesh.edge_sides
+    return _own_blocked(mesh.vertices, mesh.edges, data["apex"], Ls, kinds.pop(), EPS, start, order,
+                        mesh.side_face, data["tri_start"], data["tri_idx"])  # fmt: skip
 
 
 def face_planes(mesh: Mesh) -> np.ndarray:
@@ -274,7 +256,6 @@ __all__ = [
     "outward_points_and_rays",
     "outward_points_of",
     "own_blocked",
-    "own_triangles",
     "face_planes",
     "plain_edge_ids",
 ]
