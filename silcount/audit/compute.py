@@ -15,10 +15,13 @@ Decisions, named:
   ``formula_printed`` is per light (the formula does not depend on the light);
   its ratios compare the summed measurement with ``lights x printed``.
 * **Agreement** is exact equality of edge sets with the ``reference``
-  detector's, which is always run (and reported only when asked for), for
-  all lights in one pass (:func:`silcount.detectors.detect_many`, identical
-  to a run per light); with the ``fast`` engine the reported ``reference``
-  run is that result and its ``time_s`` its share of the pass.
+  detector's, which is always run (and reported only when asked for); with
+  the ``fast`` engine the reported ``reference`` run is that result.
+* **All lights at once**: every run goes through
+  :func:`silcount.detectors.detect_many` (identical to a run per light; the
+  reference, TA, HSD and EESD batch their lights), and each light's
+  ``time_s`` is its share of that pass (their sum, the aggregate's, is the
+  pass's wall time).
 * **Hierarchies** (``gaussmap``, ``cones``): their tree is built once per
   mesh; its tally (``hierarchy.build``) is kept apart from the per-light
   ``tallies``, which are the query's alone.  ``query_saving`` is the
@@ -46,7 +49,7 @@ import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect, detect_many, differences, variants_of
+from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, variants_of
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -141,20 +144,15 @@ def _ratios(measured: dict[str, int], printed: dict[str, float], lights: int) ->
 
 def _one_run(
     mesh: Mesh,
-    light: Light,
     name: str,
     variant: str,
     settings: AuditSettings,
     ref: Silhouette,
     profile: tuple[str, dict],
-    given: tuple[Silhouette, float] | None = None,
+    res: Silhouette,
+    elapsed: float,
 ) -> dict:
-    if given is None:
-        t0 = time.perf_counter()
-        res = detect(mesh, light, name, variant=variant, engine=settings.engine)
-        elapsed = time.perf_counter() - t0
-    else:
-        res, elapsed = given
+    """One run's entry of a light: ``res`` under the light, which took ``elapsed`` seconds."""
     diff = differences(res.edge_ids, ref.edge_ids)  # the audit's one reference run, for every detector
     missed, extra = diff["missed_edges"], diff["extra_edges"]
     tallies = {model: {k: int(v) for k, v in sorted(t.items(), key=_kind_order)} for model, t in res.tally.items()}
@@ -273,24 +271,27 @@ def run_audit(
     warnings = list(mesh.load_warnings) + mesh_warnings(stats)
     runs = _runs(settings)
     per_light = []
-    # the reference for every light in one pass (detect_many: identical to detect per light)
-    t0 = time.perf_counter()
-    refs = detect_many(mesh, lights, "reference", engine="fast")
-    ref_time = (time.perf_counter() - t0) / len(lights)
-    # a requested fast reference run is that same result, timed as its share of the pass
-    reuse = settings.engine == "fast"
     with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
+        # every run under all the lights at once (detect_many: identical to detect per light), each light's
+        # time its share of the pass; the reference first, always (a requested fast reference run is it)
+        batches: dict[str, tuple[list[Silhouette], float]] = {}
+        for key, name, variant in [("", "reference", "intended"), *runs]:
+            if key and name == "reference" and settings.engine == "fast":
+                batches[key] = batches[""]
+                continue
+            bar.set_postfix_str(key or "reference", refresh=False)
+            engine = "fast" if not key else settings.engine
+            t0 = time.perf_counter()
+            batches[key] = (detect_many(mesh, lights, name, variant, engine), (time.perf_counter() - t0) / len(lights))
+            bar.update(len(lights))
+        refs = batches[""][0]
         for i, (light, ref) in enumerate(zip(lights, refs, strict=True)):
-            bar.set_postfix_str(f"light {i}", refresh=False)
-            bar.update()
             info, light_warnings = _light_checks(mesh, light, ref.ties, i)
             warnings += light_warnings
             results = {}
             for key, name, variant in runs:
-                given = (ref, ref_time) if reuse and name == "reference" else None
-                results[key] = _one_run(mesh, light, name, variant, settings, ref, profile, given)
-                bar.set_postfix_str(f"light {i} {key}", refresh=False)
-                bar.update()
+                res, share = batches[key]
+                results[key] = _one_run(mesh, name, variant, settings, ref, profile, res[i], share)
             per_light.append({"light": info, "detectors": results})
     detectors = {}
     for key, _, _ in runs:

@@ -4,7 +4,9 @@
 (the client read them: workers need no shared filesystem), writes them to a
 private temporary file, loads it with :func:`silcount.mesh.io.load_mesh`,
 subdivides it (:mod:`silcount.study.subdivide`) and runs every requested
-detector under every light with :func:`silcount.detectors.detect`.  It returns
+detector under all the lights at once with :func:`silcount.detectors.detect_many`
+(identical to :func:`~silcount.detectors.detect` light by light; the reference,
+EESD, TA and HSD batch their lights, see its docstring).  It returns
 plain JSON-ready data and never raises for a bad mesh: the failure becomes the
 result's one-line ``error`` (so one file never stops a sweep).
 
