@@ -42,50 +42,46 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
         return out
     e1, e2 = _plane_frame(d)
     box = np.empty((T, 4))  # x lo, y lo, x hi, y hi (x lo = inf: a non-finite triangle, never listed)
+    x0 = y0 = np.inf
+    x1 = y1 = -np.inf
+    area = big = 0.0  # big: the largest |coordinate| of a listed box
+    n = 0
     for i in range(T):
         for k in range(2):
             e = e1 if k == 0 else e2
             a, b, c = _project(tris[i, 0], e), _project(tris[i, 1], e), _project(tris[i, 2], e)
             box[i, k], box[i, 2 + k] = min(a, b, c), max(a, b, c)
-        if not (np.isfinite(box[i, 0]) and np.isfinite(box[i, 1]) and np.isfinite(box[i, 2])
-                and np.isfinite(box[i, 3])):  # fmt: skip
+        lx, ly, hx, hy = box[i, 0], box[i, 1], box[i, 2], box[i, 3]
+        if not (np.isfinite(lx) and np.isfinite(ly) and np.isfinite(hx) and np.isfinite(hy)):
             box[i, 0] = np.inf
-    x0 = y0 = np.inf
-    x1 = y1 = -np.inf
-    area = 0.0
-    n = 0
-    for i in range(T):
-        if box[i, 0] < np.inf:
-            x0, y0 = min(x0, box[i, 0]), min(y0, box[i, 1])
-            x1, y1 = max(x1, box[i, 2]), max(y1, box[i, 3])
-            area += (box[i, 2] - box[i, 0]) * (box[i, 3] - box[i, 1])
-            n += 1
+            continue
+        x0, y0, x1, y1 = min(x0, lx), min(y0, ly), max(x1, hx), max(y1, hy)
+        area += (hx - lx) * (hy - ly)
+        big = max(big, abs(lx), abs(ly), abs(hx), abs(hy))
+        n += 1
     if n == 0:
         return out
     cell = max(np.sqrt(area / n), 1e-12 * max(x1 - x0, y1 - y0, 1e-300))  # about one triangle's box
     while ((x1 - x0) / cell + 1.0) * ((y1 - y0) / cell + 1.0) > 4.0 * n + 16.0:
         cell *= 1.5  # at most about four cells a triangle
-    for i in range(T):  # padded: rounding of the projection, and the tracer's own margin
-        if box[i, 0] < np.inf:
-            for k in range(2):
-                pad = 1e-7 * cell + 4e-16 * (abs(box[i, k]) + abs(box[i, 2 + k]))
-                box[i, k] -= pad
-                box[i, 2 + k] += pad
-    x0 = y0 = np.inf
-    x1 = y1 = -np.inf
-    for i in range(T):  # the grid spans the padded boxes
-        if box[i, 0] < np.inf:
-            x0, y0 = min(x0, box[i, 0]), min(y0, box[i, 1])
-            x1, y1 = max(x1, box[i, 2]), max(y1, box[i, 3])
+    # Each box is padded (rounding of the projection, and the tracer's own margin) by at most ``most``, the
+    # same formula at the largest coordinate (rounding is monotone), so the grid spans [x0 - most, x1 + most].
+    most = 1e-7 * cell + 4e-16 * (big + big)
+    x0, y0, x1, y1 = x0 - most, y0 - most, x1 + most, y1 + most
     gx = int((x1 - x0) / cell) + 1
     gy = int((y1 - y0) / cell) + 1
+    inv = 1.0 / cell  # a cell index is int((v - lo) * inv): monotone in v, the same for boxes and points
     rng = np.empty((T, 4), dtype=np.int64)  # each triangle's cells: x from, x to, y from, y to (none unlisted)
-    rng[:, 0] = rng[:, 2] = 0
-    rng[:, 1] = rng[:, 3] = -1
     for i in range(T):
-        if box[i, 0] < np.inf:
-            rng[i, 0], rng[i, 1] = min(int((box[i, 0] - x0) / cell), gx - 1), min(int((box[i, 2] - x0) / cell), gx - 1)
-            rng[i, 2], rng[i, 3] = min(int((box[i, 1] - y0) / cell), gy - 1), min(int((box[i, 3] - y0) / cell), gy - 1)
+        if box[i, 0] == np.inf:
+            rng[i, 0], rng[i, 1], rng[i, 2], rng[i, 3] = 0, -1, 0, -1
+            continue
+        for k in range(2):
+            pad = 1e-7 * cell + 4e-16 * (abs(box[i, k]) + abs(box[i, 2 + k]))
+            box[i, k] -= pad
+            box[i, 2 + k] += pad
+        rng[i, 0], rng[i, 1] = min(int((box[i, 0] - x0) * inv), gx - 1), min(int((box[i, 2] - x0) * inv), gx - 1)
+        rng[i, 2], rng[i, 3] = min(int((box[i, 1] - y0) * inv), gy - 1), min(int((box[i, 3] - y0) * inv), gy - 1)
     count = np.zeros(gx * gy + 1, dtype=np.int64)
     for i in range(T):
         for y in range(rng[i, 2], rng[i, 3] + 1):
@@ -106,7 +102,7 @@ def _lines_any_hit(origins, d, tris, done):  # pragma: no cover - compiled
         px, py = _project(o, e1), _project(o, e2)
         if not (x0 <= px <= x1 and y0 <= py <= y1):  # outside every box (a NaN too): no hit, as in the tracer
             continue
-        c = min(int((py - y0) / cell), gy - 1) * gx + min(int((px - x0) / cell), gx - 1)
+        c = min(int((py - y0) * inv), gy - 1) * gx + min(int((px - x0) * inv), gx - 1)
         for j in range(start[c], start[c + 1]):
             i = items[j]
             if box[i, 0] <= px <= box[i, 2] and box[i, 1] <= py <= box[i, 3]:
