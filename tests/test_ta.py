@@ -236,3 +236,13 @@ def test_replay_matches_a_plain_list_over_many_words(seed):
     r = replay(start, keys, facing, n_keys, initial)
     assert r.live_keys.tolist() == S and r.examined == examined and r.shifted == shifted
     assert r.deleted > 200 and initial.size + r.added > 64 * 10  # deletions over ten words and more
+
+
+def test_replay_refuses_more_slots_than_its_int32_indices_hold():
+    # S's replay keeps slots and keys as int32; a mesh needing more is refused, naming the limit, before any
+    # allocation (no wrapped index).
+    from silcount.detectors.edge_array import MAX_SLOTS, replay
+
+    with pytest.raises(ValueError, match="2,147,483,647"):
+        replay(np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool), MAX_SLOTS + 1)
+    assert replay(np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool), 4).searched == 0
