@@ -339,14 +339,10 @@ def test_the_z_order_codes_are_the_bit_by_bit_interleaving():
 
     rng = np.random.default_rng(3)
     for _ in range(300):
-        c5 = [int(x) for x in rng.integers(0, 4096, 5)]
         c2 = [int(x) for x in rng.integers(0, 1 << 21, 2)]
         c3 = [int(x) for x in rng.integers(0, 1 << 21, 3)]
-        assert int(morton.interleave5(*(np.uint64(c) for c in c5))) == _interleave_by_bits(c5, 12)
         assert int(morton.interleave2(*(np.uint64(c) for c in c2))) == _interleave_by_bits(c2, 21)
         assert int(morton.interleave3(*(np.uint64(c) for c in c3))) == _interleave_by_bits(c3, 21)
-    top = [np.uint64(4095)] * 5
-    assert int(morton.interleave5(*top)) == (1 << 60) - 1
 
 
 def test_the_cones_offset_frame_is_numpys_over_the_trusted_faces():

@@ -281,6 +281,9 @@ def silhouette_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
 BATCH = 64  # lights per pass of :func:`many_edge_ids` (one bit each in a uint64 per face)
 
 
+_LAST_MANY: "weakref.WeakKeyDictionary[Mesh, tuple[bytes, list]]" = weakref.WeakKeyDictionary()
+
+
 def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int, np.ndarray, int]]:
     """For each light: (reference edge ids, ties, the packed facing words, its bit), 64 lights per pass.
 
@@ -288,7 +291,15 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
     :func:`facing_flags` does); one pass over the two-sided edges XORs their two
     faces' words, and each set bit is a silhouette edge of that light.  Boundary
     and non-manifold edges count their faces' bits per light.
+
+    The last call's result is kept with the mesh (shared, never written to), as :func:`shared_facing_flags`
+    keeps the last light's flags: a sweep asks for the same lights' reference again (HSD's notes count the
+    reference edges inside its polygons), and only the identical lights, kind and coordinates, reuse it.
     """
+    key = b"".join(bytes([L.is_directional]) + np.asarray(L.vector, dtype=np.float64).tobytes() for L in lights)
+    got = _LAST_MANY.get(mesh)
+    if got is not None and got[0] == key:
+        return list(got[1])
     p0, nrm, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     out = []
     for lo in range(0, len(lights), BATCH):
@@ -304,7 +315,8 @@ def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int
             flags = ((other_bits >> np.uint64(j)) & np.uint64(1)).astype(bool) if other.size else None
             mine = _with_other_edges(two_ids, ids[start[j] : start[j + 1]], other, o_start, flags)
             out.append((mine, int(ties[j]), bits, j))
-    return out
+    _LAST_MANY[mesh] = (key, out)
+    return list(out)
 
 
 def facing_of_bits(bits: np.ndarray, j: int) -> np.ndarray:

@@ -155,7 +155,7 @@ SCHEME = KeyScheme(
     setup_naive=setup_naive,
     naive=key_naive,
     key_cost={"read": 8, "add": 11, "mul": 10, "cmp": 7, "div": 2},
-    setup_cost=lambda F, trusted: {"read": F, "cmp": 2 * F + 1, "add": 3, "div": 1},
+    setup_cost=lambda F: {"read": F, "cmp": 2 * F + 1, "add": 3, "div": 1},
 )
 
 

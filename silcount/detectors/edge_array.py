@@ -39,7 +39,7 @@ from numba import njit
 from silcount.counting.arithmetic import Memory, Num, OpCounter
 from silcount.detectors.adjacency import facing_range
 from silcount.detectors.base import on_threads
-from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 
@@ -238,7 +238,7 @@ def replay_many(
 
     def one(light: Light) -> tuple[np.ndarray, int, Replay]:
         src = np.asarray(light.vector, dtype=np.float64)
-        flags, ties, *r = _facing_replay(*args, src, isinstance(light, DirectionalLight), int(n_keys), init)
+        flags, ties, *r = _facing_replay(*args, src, light.is_directional, int(n_keys), init)
         return flags, int(ties), Replay(r[0], *(int(x) for x in r[1:]))
 
     return on_threads(one, lights)

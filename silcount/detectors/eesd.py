@@ -92,9 +92,9 @@ Engines
 ``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
 same points compiled in the same order of operations and casts only the rays
 that matter: a ray that meets one of its own edge's faces (the same
-Moller-Trumbore test, bit for bit, over a copy of each edge's own triangles laid
-out in edge order, the other face first: :func:`.eesd_rays.own_blocked`, every
-light of a :func:`detect_many` batch in one pass over the edges) is blocked in
+Moller-Trumbore test, bit for bit, on the edge's faces' fan triangles, the
+other face first: :func:`.eesd_rays.own_blocked`, every light of a
+:func:`detect_many` batch in one pass over the edges) is blocked in
 the full loop too, so only the rays that miss their own faces are cast against
 every triangle: on a closed mesh these are exactly the edges whose faces lie
 on one side as seen from the light, i.e. the reference silhouette (10,720 rays
@@ -136,7 +136,6 @@ from silcount.detectors.eesd_counted import (
 from silcount.detectors.eesd_rays import (
     face_planes,
     fan_triangles,
-    is_directional,
     light_values,
     outward_points_and_rays,
     outward_points_of,
@@ -232,13 +231,15 @@ def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
     # 2. Only the rays that miss their own faces can be silhouettes: cast them against everything.  A
     #    directional light's rays are parallel lines, answered in the plane perpendicular to them, a light a
     #    thread; a point light's go through the tracer's grid (itself parallel).
-    if is_directional(lights[0]):
+    if lights[0].is_directional:
         tris = fan_triangles(mesh)
         hits = on_threads(lambda j: lines_any_hit(points[j], light_values(lights[j]), tris), range(len(lights)))
     else:
         rays = tracer(mesh)
-        hits = [rays.any_hit(np.broadcast_to(light_values(L), p.shape), p - light_values(L), 0.0, np.inf)
-                for L, p in zip(lights, points, strict=True)]  # fmt: skip
+        sources = [light_values(light) for light in lights]
+        hits = [
+            rays.any_hit(np.broadcast_to(L, p.shape), p - L, 0.0, np.inf) for L, p in zip(sources, points, strict=True)
+        ]
     out = []
     for light, cand, hit in zip(lights, cands, hits, strict=True):
         ids = cand[~hit]
@@ -318,7 +319,7 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
         return [detect(mesh, light, variant) for light in lights]
     out: list[Silhouette | None] = [None] * len(lights)
     for kind in (True, False):
-        which = [i for i, light in enumerate(lights) if is_directional(light) == kind]
+        which = [i for i, light in enumerate(lights) if light.is_directional == kind]
         if which:
             for i, got in zip(which, _fast_intended(mesh, [lights[i] for i in which]), strict=True):
                 out[i] = _silhouette(mesh, lights[i], variant, "fast", *got)

@@ -64,10 +64,6 @@ def tracer(mesh: Mesh) -> RayTracer:
 _ALL = np.zeros(0, dtype=np.int64)  # :func:`_outward`'s "every edge"
 
 
-def is_directional(light: Light) -> bool:
-    return isinstance(light, DirectionalLight)
-
-
 def light_values(light: Light) -> np.ndarray:
     """The light's direction or position, as the counted routines read it."""
     return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
@@ -158,14 +154,14 @@ def outward_points_of(mesh: Mesh, light: Light, which: np.ndarray) -> np.ndarray
     if which.size == 0:
         return np.empty((0, 3))
     data = ray_data(mesh)
-    return _outward(mesh.vertices, mesh.edges, data["apex"], which, light_values(light), is_directional(light), EPS)
+    return _outward(mesh.vertices, mesh.edges, data["apex"], which, light_values(light), light.is_directional, EPS)
 
 
 def own_blocked(mesh: Mesh, lights: list[Light]) -> np.ndarray:
     """(E, n) bool: light ``j``'s ray of edge ``e`` (:func:`outward_points_and_rays`' ray) meets one of the
     edge's own faces' fan triangles by :func:`silcount.mesh.raytrace.moller_trumbore`, for lights all
     directional or all point lights, every light in one pass over the edges."""
-    kinds = {is_directional(light) for light in lights}
+    kinds = {light.is_directional for light in lights}
     if len(kinds) != 1:
         raise ValueError("own_blocked takes lights of one kind")
     Ls = np.ascontiguousarray([light_values(light) for light in lights], dtype=np.float64)

@@ -98,7 +98,7 @@ SCHEME = KeyScheme(
     setup_naive=lambda plane, F, counter: (),
     naive=key_naive,
     key_cost={"read": 6, "add": 9, "mul": 9, "cmp": 5, "div": 2},
-    setup_cost=lambda F, trusted: {},
+    setup_cost=lambda F: {},
 )
 
 

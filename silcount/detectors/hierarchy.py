@@ -133,7 +133,7 @@ class KeyScheme:
     rows of ``key_faces`` (n x 2, uint32), each shifted left by ``idx_bits`` with the row in the low bits
     (compiled); ``setup_naive(planes, F, counter)`` and
     ``naive(planes, fa, fb, consts, counter)``: the same constants and one key on counting arithmetic
-    (``planes`` a :class:`Memory`); ``key_cost`` and ``setup_cost(F, trusted)``: what those execute.
+    (``planes`` a :class:`Memory`); ``key_cost`` and ``setup_cost(F)``: what those execute.
     """
 
     name: str
@@ -143,7 +143,7 @@ class KeyScheme:
     setup_naive: Callable[[Memory, int, OpCounter], tuple]
     naive: Callable[[Memory, int, int, tuple, OpCounter], int]
     key_cost: dict[str, int]
-    setup_cost: Callable[[int, int], dict[str, int]]
+    setup_cost: Callable[[int], dict[str, int]]
 
 
 # ---- the trees' shape ------------------------------------------------------------------------------------

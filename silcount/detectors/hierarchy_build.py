@@ -250,7 +250,7 @@ def other_key_faces(o_start: np.ndarray, o_faces: np.ndarray) -> np.ndarray:
 
 def index_bits(n: int) -> int:
     """The low bits a key gives to its edge's position (at least one)."""
-    return max(1, int(n - 1).bit_length()) if n > 1 else 1
+    return max(1, int(n - 1).bit_length())
 
 
 def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hierarchy:
@@ -314,7 +314,7 @@ def build_cost(sizes: dict[str, int], scheme: KeyScheme) -> dict[str, int]:
     # (4 W); a trusted face's n / m (3 div), |.| (3 M, 2 A, 1 sqrt), u (3 div), c (3 M, 2 A)
     add_scaled(tally, {"read": 6, "add": 4, "cmp": 3, "write": 4}, F)
     add_scaled(tally, {"div": 6, "mul": 6, "add": 4, "sqrt": 1}, trusted)
-    add_scaled(tally, scheme.setup_cost(F, trusted), 1)
+    add_scaled(tally, scheme.setup_cost(F), 1)
     # keys: a pair edge's two faces (2 R); another edge's CSR start and end (2 R), its key faces (2 R); the key
     # (the scheme's cost), stored (1 W)
     add_scaled(tally, {"read": 2, "write": 1}, T2)

@@ -72,7 +72,8 @@ def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
         ids = query_fast(mesh, tree, light)[0]
     finally:
         numba.set_num_threads(threads)
-    return np.sort(ids)
+    ids.sort()  # query_fast's own copy
+    return ids
 
 
 # ---- a detector over a hierarchy -----------------------------------------------------------------------

@@ -49,27 +49,6 @@ def interleave3(x, y, z):  # pragma: no cover - compiled
     return _spread3(x) | (_spread3(y) << _M(1)) | (_spread3(z) << _M(2))
 
 
-def _spread5_table() -> np.ndarray:
-    """Bits 0..11 of every 12-bit value moved to positions 0, 5, ..., 55 (one table lookup per cell)."""
-    x = np.arange(4096, dtype=_M)
-    out = np.zeros(4096, dtype=_M)
-    for b in range(12):
-        out |= ((x >> _M(b)) & _M(1)) << _M(5 * b)
-    return out
-
-
-_SPREAD5 = _spread5_table()
-_LOW12 = _M(0xFFF)
-
-
-@njit(cache=True)
-def interleave5(c0, c1, c2, c3, c4):  # pragma: no cover - compiled
-    """The 60-bit Z-order code of five 12-bit cell indices (``c0`` in the lowest bit of each group)."""
-    t = _SPREAD5
-    return (t[c0 & _LOW12] | (t[c1 & _LOW12] << _M(1)) | (t[c2 & _LOW12] << _M(2)) | (t[c3 & _LOW12] << _M(3))
-            | (t[c4 & _LOW12] << _M(4)))  # fmt: skip
-
-
 @njit(cache=True)
 def octahedral(x, y, z, quant):  # pragma: no cover - compiled
     """Cell indices of direction ``(x, y, z)`` on the octahedral map, ``(p + 1) * quant`` per axis.
