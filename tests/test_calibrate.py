@@ -202,3 +202,16 @@ def test_a_timed_mesh_that_loads_today_with_another_face_count_is_left_out_and_n
     assert [m.name for _, m in kept] == ["a.obj"]
     assert left_out == (f"b.obj: timed with 968 faces, loads today with {other.n_faces}",)
     assert _as_timed([("corpus", other)], times.drop(columns=["faces"])) == ([("corpus", other)], ())
+
+
+def test_report_without_a_corpus_folder_skips_the_corpus_section_saying_so(tmp_path, monkeypatch, capsys):
+    # The Makefile names ../shared/corpus whether or not it exists: a clone without it writes the series
+    # section and leaves the corpus one alone (one line on stderr), rather than failing the whole report.
+    from silcount.calibrate.calibration import committed_timings, read_timings
+    from silcount.cli import calibrate as calibrate_cli
+
+    monkeypatch.setenv("SILCOUNT_CORPUS_DIR", str(tmp_path / "no-such-folder"))
+    written = calibrate_cli.report(tmp_path)
+    assert written and all("corpus" not in p.relative_to(tmp_path).parts for p in written)
+    if set(read_timings(committed_timings())["mesh"]) - set(timing.SERIES):  # the committed timings time corpus files
+        assert "calibrate: corpus skipped" in capsys.readouterr().err

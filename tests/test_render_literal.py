@@ -190,3 +190,20 @@ def test_render_report_summary_follows_its_schema(tmp_path, monkeypatch):
     assert "The stencil paper's literal steps" in (tmp_path / "renders" / "summary.md").read_text()
     assert all(p.exists() for p in written)
     jsonschema.validate(json.loads((REPO / "reports" / "renders" / "summary.json").read_text()), schema)
+
+
+def test_render_report_without_shared_scenes_keeps_an_existing_summary(tmp_path, monkeypatch, capsys):
+    # A clone without ../shared/scenes re-renders the built-in scenes' images only: the summary it cannot
+    # recompute (its shared scenes' rows) is left byte for byte, and the report says so.
+    from silcount.cli import render as render_cli
+
+    monkeypatch.setattr(render_cli, "builtin_scene", lambda name: builtin_scene(name, 64))
+    monkeypatch.setattr(render_cli, "shared_scene_dir", lambda: None)
+    (tmp_path / "renders").mkdir()
+    committed = {name: (REPO / "reports" / "renders" / name).read_bytes() for name in ("summary.json", "summary.md")}
+    for name, data in committed.items():
+        (tmp_path / "renders" / name).write_bytes(data)
+    written = render_cli.report(tmp_path)
+    assert {name: (tmp_path / "renders" / name).read_bytes() for name in committed} == committed
+    assert "summary left as it is" in capsys.readouterr().err
+    assert written and all(p.name.startswith(tuple(BUILTIN)) for p in written)

@@ -49,17 +49,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def report(out_dir: Path) -> list[Path]:
     """The committed timings on the icosphere series under ``out_dir/calibrate/``; on the corpus too
-    (``out_dir/calibrate/corpus/``) when ``$SILCOUNT_CORPUS_DIR`` is set and the timings time corpus files."""
-    import os
-
+    (``out_dir/calibrate/corpus/``) when ``$SILCOUNT_CORPUS_DIR`` names a folder and the timings time corpus
+    files (without it, that section is left as it is, saying so)."""
     from silcount.calibrate import output, timing
     from silcount.calibrate.calibration import committed_timings, from_committed, read_timings
+    from silcount.cli.corpus import CORPUS_ENV, corpus_dir
 
     paths = output.write(from_committed(), out_dir / "calibrate")
-    corpus = os.environ.get("SILCOUNT_CORPUS_DIR")
+    corpus = corpus_dir()
     timed = committed_timings()
-    if corpus and timed is not None and set(read_timings(timed)["mesh"]) - set(timing.SERIES):
-        paths += output.write(from_committed(Path(corpus)), out_dir / "calibrate" / "corpus")
+    if timed is not None and set(read_timings(timed)["mesh"]) - set(timing.SERIES):
+        if corpus is None:  # the corpus section as committed stays; nothing to recompute it from
+            print(f"calibrate: corpus skipped: ${CORPUS_ENV} does not name a folder", file=sys.stderr)
+        else:
+            paths += output.write(from_committed(corpus), out_dir / "calibrate" / "corpus")
     return paths
 
 

@@ -193,15 +193,19 @@ def report(out_dir: Path) -> list[Path]:
     """Render the built-in scenes and the shared ones into ``out_dir/renders/``: masks, shaded images, a summary.
 
     The built-in scenes (:mod:`silcount.render.builtin`) are always rendered; the shared scenes when
-    :func:`shared_scene_dir` finds them.
+    :func:`shared_scene_dir` finds them.  Without them an existing summary is left as it is (a clone without
+    the shared scenes loses none of its rows); only a missing one is written, of the built-in scenes.
     """
     scenes = [builtin_scene(n) for n in BUILTIN]
+    dest = out_dir / "renders"
     shared = shared_scene_dir()
+    keep = shared is None and (dest / "summary.json").is_file()
     if shared is None:
-        print("silcount report: renders: no shared scenes (set SILCOUNT_SCENE_DIR); built-in only", file=sys.stderr)
+        print("silcount report: renders: no shared scenes (set SILCOUNT_SCENE_DIR); built-in only"
+              + (", the summary left as it is (nothing to recompute its shared scenes from)" if keep else ""),
+              file=sys.stderr)  # fmt: skip
     else:
         scenes += [load_scene(p) for p in sorted(shared.glob("*.json"))]
-    dest = out_dir / "renders"
     dest.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
     summary: dict = {
@@ -211,8 +215,9 @@ def report(out_dir: Path) -> list[Path]:
     }
     for scene in scenes:
         summary["scenes"][scene.name] = _render_scene(scene, dest, written)
-    written.append(write_text(dest / "summary.json", json.dumps(summary, indent=2, sort_keys=True) + "\n"))
-    written.append(write_text(dest / "summary.md", summary_markdown(summary)))
+    if not keep:
+        written.append(write_text(dest / "summary.json", json.dumps(summary, indent=2, sort_keys=True) + "\n"))
+        written.append(write_text(dest / "summary.md", summary_markdown(summary)))
     return written
 
 
