@@ -35,6 +35,7 @@ and is not counted (``docs/counting.md``).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -44,6 +45,7 @@ from silcount.detectors.hierarchy_naive import read32
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
 from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
+from silcount.detectors.prefetch import prefetch_faces
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -67,13 +69,17 @@ def _keys(plane, kf, idx_bits, keys):  # pragma: no cover - compiled
     shifted left by ``idx_bits`` above the row."""
     T = kf.shape[0]
     sh = np.uint64(idx_bits)
-    for i in prange(T):
-        a, b = kf[i, 0], kf[i, 1]
-        x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
-        y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
-        z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
-        cx, cy = octahedral(x, y, z, QUANT)
-        keys[i] = (interleave2(cx, cy) << sh) | np.uint64(i)
+    chunks = numba.get_num_threads()
+    for t in prange(chunks):  # each thread a run of edges, asking ROWS_AHEAD edges ahead for their faces' planes
+        end = (t + 1) * T // chunks
+        for i in range(t * T // chunks, end):
+            prefetch_faces(plane, kf, i, end)
+            a, b = kf[i, 0], kf[i, 1]
+            x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
+            y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
+            z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+            cx, cy = octahedral(x, y, z, QUANT)
+            keys[i] = (interleave2(cx, cy) << sh) | np.uint64(i)
 
 
 def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:

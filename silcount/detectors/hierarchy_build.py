@@ -27,6 +27,7 @@ from silcount.detectors.hierarchy import (
     levels,
     sort_passes,
 )
+from silcount.detectors.prefetch import ROWS_AHEAD, prefetch
 from silcount.mesh.model import Mesh
 
 
@@ -142,19 +143,31 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes):  # pra
 
     Two passes, each of independent reads, so that the processor overlaps their cache misses: each edge's
     id and its rows' face ids (parked in the rows' first four bytes), then each row's plane by that face id.
-    One pass of dependent reads took 1.7x as long on the 1.04 M bunny.
+    One pass of dependent reads took 1.7x as long on the 1.04 M bunny.  Each thread takes a run and asks
+    for the rows ``ROWS_AHEAD`` ahead (:mod:`.prefetch`): 14-20 ms -> 11-12 ms on the 1.04 M bunny.
     """
     parked = planes.view(np.int32)
     n = pos.size
-    for i in prange(n):
-        j = pos[i]
-        order[i] = j if every else two_ids[j]
-        parked[2 * i, 0] = pair_faces[j, 0]
-        parked[2 * i + 1, 0] = pair_faces[j, 1]
-    for q in prange(2 * n):
-        f = parked[q, 0]
-        for c in range(4):
-            planes[q, c] = plane[f, c]
+    chunks = numba.get_num_threads()
+    for t in prange(chunks):
+        end = (t + 1) * n // chunks
+        for i in range(t * n // chunks, end):
+            if i + ROWS_AHEAD < end:
+                prefetch(pair_faces, pos[i + ROWS_AHEAD])
+                if not every:
+                    prefetch(two_ids, pos[i + ROWS_AHEAD])
+            j = pos[i]
+            order[i] = j if every else two_ids[j]
+            parked[2 * i, 0] = pair_faces[j, 0]
+            parked[2 * i + 1, 0] = pair_faces[j, 1]
+    for t in prange(chunks):
+        end = (t + 1) * 2 * n // chunks
+        for q in range(t * 2 * n // chunks, end):
+            if q + ROWS_AHEAD < end:
+                prefetch(plane, np.int64(parked[q + ROWS_AHEAD, 0]))
+            f = parked[q, 0]
+            for c in range(4):
+                planes[q, c] = plane[f, c]
 
 
 @njit(cache=True)

@@ -23,10 +23,9 @@ edge position, and the runs are compacted in order.
 from __future__ import annotations
 
 import numpy as np
-from llvmlite import ir
-from numba import njit, prange, types
-from numba.core import cgutils
-from numba.extending import intrinsic
+from numba import njit, prange
+
+from silcount.detectors.prefetch import prefetch
 
 # ``stats`` slots: the STEP_NAMES of .hierarchy but 'add' (the returned count), then the ties
 NODE_TEST, NODE_LIT, NODE_LIT_OPEN, NODE_UNLIT, NODE_OPEN, LEAF_OPEN, EDGE_TEST, EDGE_OTHER, FACE_TEST, FACE_EXACT = (
@@ -37,26 +36,6 @@ N_STATS = 11
 
 
 AHEAD = 8  # leaves (or frontier nodes) ahead whose memory is asked for before it is read
-
-
-@intrinsic
-def prefetch(typingctx, arr, row):  # pragma: no cover - compiled
-    """Ask the processor for the cache line holding ``arr[row, 0]`` (``arr[row]`` of a 1-D array), without waiting
-    for it: ``llvm.prefetch`` (read, high locality, data).  It changes no value, only when memory arrives."""
-    sig = types.void(arr, row)
-
-    def codegen(context, builder, signature, args):
-        aryty = signature.args[0]
-        ary = context.make_array(aryty)(context, builder, args[0])
-        idx = [args[1]] + [context.get_constant(types.intp, 0)] * (aryty.ndim - 1)
-        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, idx)
-        i8p, i32 = ir.PointerType(ir.IntType(8)), ir.IntType(32)
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-                                            "llvm.prefetch.p0i8")  # fmt: skip
-        builder.call(fn, [builder.bitcast(ptr, i8p), ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
-        return context.get_dummy_value()
-
-    return sig, codegen
 
 
 @njit(cache=True, inline="always")
