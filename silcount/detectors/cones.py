@@ -102,12 +102,11 @@ def _offset_cell(q):  # pragma: no cover - compiled
 
 
 @njit(cache=True, parallel=True)
-def _keys(plane, kf, lo2, scale, idx_bits, keys):  # pragma: no cover - compiled
+def _keys(plane, kf, lo2, scale, idx_bits, keys, chunks):  # pragma: no cover - compiled
     """3-D Z-order codes of the planes' sum (direction of ``u1 + u2``, cell of ``c1 + c2``), as :func:`key_naive`,
     shifted left by ``idx_bits`` above the row."""
     T = kf.shape[0]
     sh = np.uint64(idx_bits)
-    chunks = numba.get_num_threads()
     for t in prange(chunks):  # each thread a run of edges, asking ROWS_AHEAD edges ahead for their faces' planes
         end = (t + 1) * T // chunks
         for i in range(t * T // chunks, end):
@@ -124,7 +123,7 @@ def _keys(plane, kf, lo2, scale, idx_bits, keys):  # pragma: no cover - compiled
 def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
     """The edges' 3-D plane keys, compiled."""
     keys = np.empty(key_faces.shape[0], dtype=np.uint64)
-    _keys(plane, key_faces, consts[0], consts[1], idx_bits, keys)
+    _keys(plane, key_faces, consts[0], consts[1], idx_bits, keys, numba.get_num_threads())
     return keys
 
 

@@ -64,12 +64,11 @@ QUANT = float((1 << BITS) - 1) / 2.0  # (q + 1) * QUANT lies in [0, 2**12 - 1] f
 
 
 @njit(cache=True, parallel=True)
-def _keys(plane, kf, idx_bits, keys):  # pragma: no cover - compiled
+def _keys(plane, kf, idx_bits, keys, chunks):  # pragma: no cover - compiled
     """Z-order codes of the octahedral cells of the arcs' points ``u1 + u2``, with :func:`key_naive`'s arithmetic,
     shifted left by ``idx_bits`` above the row."""
     T = kf.shape[0]
     sh = np.uint64(idx_bits)
-    chunks = numba.get_num_threads()
     for t in prange(chunks):  # each thread a run of edges, asking ROWS_AHEAD edges ahead for their faces' planes
         end = (t + 1) * T // chunks
         for i in range(t * T // chunks, end):
@@ -85,7 +84,7 @@ def _keys(plane, kf, idx_bits, keys):  # pragma: no cover - compiled
 def keys_fast(plane: np.ndarray, key_faces: np.ndarray, consts: tuple, idx_bits: int) -> np.ndarray:
     """Octahedral Z-order keys of the arcs ``u1 + u2`` (an untrusted face's NaN plane: cell 0)."""
     keys = np.empty(key_faces.shape[0], dtype=np.uint64)
-    _keys(plane, key_faces, idx_bits, keys)
+    _keys(plane, key_faces, idx_bits, keys, numba.get_num_threads())
     return keys
 
 

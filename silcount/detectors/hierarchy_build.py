@@ -137,7 +137,7 @@ def sorted_positions(keys: np.ndarray, key_bits: int, idx_bits: int) -> np.ndarr
 
 
 @njit(cache=True, parallel=True)
-def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes):  # pragma: no cover - compiled
+def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes, chunks):  # pragma: no cover - compiled
     """The two-faced edges into the tree's arrays, first, in leaf order: their ids (``order``), and both faces'
     planes side by side (``planes``).
 
@@ -148,7 +148,6 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes):  # pra
     """
     parked = planes.view(np.int32)
     n = pos.size
-    chunks = numba.get_num_threads()
     for t in prange(chunks):
         end = (t + 1) * n // chunks
         for i in range(t * n // chunks, end):
@@ -285,7 +284,7 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     order = np.empty(T2 + T1, dtype=np.int32)
     planes = np.empty((2 * T2 + S1, 4), dtype=np.float32)
     _gather_pairs(pos, np.zeros(0, dtype=np.int64) if two_ids is None else two_ids, two_ids is None, pair_faces, plane,
-                  order, planes)  # fmt: skip
+                  order, planes, numba.get_num_threads())  # fmt: skip
     del pos
     other_start = np.zeros(T1 + 1, dtype=np.int64)
     if T1:
