@@ -124,14 +124,26 @@ def _sum_over_steps(model: str, structural: bool, corrected: bool, reading: str 
     return {k: sp.expand(x) for k, x in total.items()}
 
 
+Override = tuple[tuple[str, tuple[tuple[str, str], ...]], ...]
+"""Steps charged another cost: ``((step, ((kind, expression), ...)), ...)`` (hashable, for the caches)."""
+
+
 @cache
-def convention(model: str, reading: str = "") -> Form:
-    """The papers' convention: every condition true, the then-branch charged, loops at their bounds."""
+def convention(model: str, reading: str = "", overrides: Override = ()) -> Form:
+    """The papers' convention: every condition true, the then-branch charged, loops at their bounds.
+
+    ``overrides`` charges the named steps the given costs instead of their annotations (a primitive's other
+    reading: :mod:`silcount.papers.claims.comparisons`)."""
     bounds = _bounds(model, reading)
+    other = {step: dict(cost) for step, cost in overrides}
+    unknown = set(other) - set(steps(model))
+    if unknown:
+        raise KeyError(f"{model} has no step {sorted(unknown)[0]!r}")
     total = zero_form()
-    for spec in steps(model).values():
+    for name, spec in steps(model).items():
         if all(arm.endswith(":then") for arm in spec.get("under", [])):
-            for kind, c in _step_cost(spec, False).items():
+            cost = {k: parse(x) for k, x in other[name].items()} if name in other else _step_cost(spec, False)
+            for kind, c in cost.items():
                 total[kind] += _loops(spec, bounds) * c
     return {k: sp.expand(x) for k, x in total.items()}
 

@@ -53,11 +53,12 @@ def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
     them the stencil claims keep their verdicts, judged by their readings, and say "not measured".
     """
     from silcount.counting import models
-    from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, fps, inventory
+    from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, facing, fps, inventory
 
     ev = default_evidence(render=False) if evidence is None else evidence
     with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
         **inventory.RULES,
+        **facing.RULES,
         **algorithms.RULES,
         **citations.RULES,
     }

@@ -5,17 +5,29 @@ with the paper's cycle weights (EESD paper Sec. 6: Mult 4, Add 2, Compare 3,
 Read 1, Write 2) and, as separate claims, as raw operation counts; the
 printed closed forms are reported beside.  Where the outcome depends on m,
 the threshold is given.  Every model reading (HSD's side loop) is a reading
-of the claim.
+of the claim, and so is every reading of a primitive the comparison charges
+where those readings disagree on the annotated cost (a step's ``primitive``
+in models/: the edge inverse, 1 Mult or none; EESD's intersection test, the
+plane equation or a ray crossing), each charged the arithmetic its
+computation executes (:func:`silcount.papers.primitives.kernel_cost`; reads and
+writes as annotated): no verdict rests on a reading called AMBIGUOUS elsewhere
+(docs/claims.md, rules 5 and 13).
 """
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
+from functools import cache
 
 import sympy as sp
 
+from silcount.counting import models
+from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
+from silcount.papers import primitives
 from silcount.papers.claims.base import (
+    CLAIM_FILES,
     Claim,
     Reading,
     algo,
@@ -30,14 +42,90 @@ from silcount.papers.claims.base import (
 SCALES = {"cycles": ("paper cycle weights", paper_weights), "raw": ("raw operation counts", unit_weights)}
 
 
-def _pairs_of_readings(*model_list: str):
-    for combo in itertools.product(*(F.readings(mdl) for mdl in model_list)):
-        name = ", ".join(r for r in combo if r) or ""
-        yield name, combo
+@dataclass(frozen=True)
+class ModelReading:
+    """One model's reading in a comparison: its loop bounds' reading and the steps charged a primitive's cost."""
+
+    loop: str = ""
+    overrides: F.Override = ()
 
 
-def _value(model: str, reading: str, weights: tuple, point: dict, which: str = "convention"):
-    return sp.nsimplify(cycles(model, which, weights, reading).subs({F.n: point["n"], F.m: point["m"]}))
+def _primitive_entry(key: str) -> dict:
+    for name in CLAIM_FILES:
+        for c in models.load(name).get("claims", []):
+            if c["id"] == key:
+                return c
+    raise KeyError(f"no claim {key!r} in {', '.join(CLAIM_FILES)}")
+
+
+@cache
+def _contested(model: str) -> dict[str, tuple[str, tuple[tuple[str, str], ...]]]:
+    """The primitives of ``model``'s steps whose computations disagree on the annotated arithmetic (some give it,
+    some not): claim -> (label, its (kernel, name) pairs).  A step's ``primitive`` names its ``claim`` (whose
+    ``kernels`` are the computations), a ``label`` and the ``cost`` it annotates within the step;
+    ``primitive_names`` names the computations for the readings (else the kernels' descriptions)."""
+    out = {}
+    for spec in F.steps(model).values():
+        prim = spec.get("primitive")
+        if prim:
+            annotated = {k: int(v) for k, v in prim["cost"].items() if int(v)}
+            kernels = tuple(_primitive_entry(prim["claim"])["kernels"])
+            if len({primitives.kernel_cost(k) == annotated for k in kernels}) == 2:
+                names = spec.get("primitive_names", {})
+                named = tuple((k, names.get(k, primitives.KERNELS[k][1])) for k in kernels)
+                out[prim["claim"]] = (prim["label"], named)
+    return out
+
+
+def _overrides(model: str, chosen: dict[str, str]) -> F.Override:
+    """``model``'s steps whose primitive has a chosen computation, each charged its cost instead of the part of
+    the annotation the primitive names (reads and writes as annotated)."""
+    out = []
+    for step, spec in F.steps(model).items():
+        prim = spec.get("primitive")
+        if prim and prim["claim"] in chosen:
+            total = {k: F.parse(v) for k, v in spec["cost"].items()}
+            for k, v in prim["cost"].items():
+                total[k] -= F.parse(v)
+            for k, v in primitives.kernel_cost(chosen[prim["claim"]]).items():
+                total[k] = total.get(k, 0) + v
+            out.append((step, tuple(sorted((k, str(v)) for k, v in total.items() if v != 0))))
+    return tuple(out)
+
+
+def _pairs_of_readings(*model_list: str, kinds: tuple[str, ...] = KINDS):
+    """(name, one ModelReading per model) for every reading of the comparison: each model's loop readings, times
+    each contested primitive's computations, one computation per primitive for all the models that use it
+    (a primitive whose computations differ in none of the compared ``kinds`` changes nothing, and is left out)."""
+    contested: dict[str, tuple[str, tuple[tuple[str, str], ...]]] = {}
+    for mdl in model_list:
+        for claim, (label, named) in _contested(mdl).items():
+            costs = [primitives.kernel_cost(k) for k, _ in named]
+            if any(len({cost.get(kind, 0) for cost in costs}) > 1 for kind in kinds):
+                contested[claim] = (label, named)
+    for loops in itertools.product(*(F.readings(mdl) for mdl in model_list)):
+        for picks in itertools.product(*(k for _, k in contested.values())):
+            chosen = {claim: kernel for claim, (kernel, _) in zip(contested, picks)}
+            labels = [label for label, _ in contested.values()]
+            names = [r for r in loops if r] + [f"{label} as {name}" for label, (_, name) in zip(labels, picks)]
+            yield ", ".join(names), tuple(ModelReading(r, _overrides(mdl, chosen)) for mdl, r in zip(model_list, loops))
+
+
+def convention_form(model: str, r: ModelReading) -> F.Form:
+    """The papers'-convention sum of ``model`` under reading ``r``, in n and m."""
+    return F.in_n(F.convention(model, r.loop, r.overrides), model)
+
+
+def _cycles(model: str, r: ModelReading, weights: tuple) -> sp.Expr:
+    return F.weighted(convention_form(model, r), dict(weights))
+
+
+def _value(model: str, reading: ModelReading, weights: tuple, point: dict):
+    return sp.nsimplify(_cycles(model, reading, weights).subs({F.n: point["n"], F.m: point["m"]}))
+
+
+def _printed_value(model: str, weights: tuple, point: dict):
+    return sp.nsimplify(cycles(model, "printed", weights).subs({F.n: point["n"], F.m: point["m"]}))
 
 
 def _threshold(diff: sp.Expr, var: sp.Symbol, what: str) -> str:
@@ -62,9 +150,7 @@ def pairwise(c: dict, source: str) -> list[Claim]:
         readings = []
         for name, (rw, ro) in _pairs_of_readings(winner, other):
             a, b = _value(winner, rw, w, point), _value(other, ro, w, point)
-            at_n = cycles(winner, "convention", w, rw).subs(F.n, point["n"]) - cycles(other, "convention", w, ro).subs(
-                F.n, point["n"]
-            )
+            at_n = _cycles(winner, rw, w).subs(F.n, point["n"]) - _cycles(other, ro, w).subs(F.n, point["n"])
             readings.append(
                 Reading(
                     name or "as printed",
@@ -73,7 +159,7 @@ def pairwise(c: dict, source: str) -> list[Claim]:
                     + _threshold(at_n, F.m, f"{algo(winner)} cheaper"),
                 )
             )
-        pa, pb = (_value(mdl, F.readings(mdl)[0], w, point, "printed") for mdl in (winner, other))
+        pa, pb = (_printed_value(mdl, w, point) for mdl in (winner, other))
         out.append(
             judged_by_readings(
                 c,
@@ -91,8 +177,8 @@ def pairwise(c: dict, source: str) -> list[Claim]:
     return out
 
 
-def _leading(model: str, reading: str, weights: tuple) -> sp.Expr:
-    return sp.expand(F.leading(cycles(model, "convention", weights, reading)) / F.n**2)
+def _leading(model: str, reading: ModelReading, weights: tuple) -> sp.Expr:
+    return sp.expand(F.leading(_cycles(model, reading, weights)) / F.n**2)
 
 
 def fewest_asymptotic(c: dict, source: str) -> Claim:
@@ -127,7 +213,7 @@ def cycle_ratio(c: dict, source: str) -> Claim:
     readings = []
     for mv in c["m_values"]:
         for name, (rn, rd) in _pairs_of_readings(c["numerator"], c["denominator"]):
-            num_, den = (cycles(mdl, "convention", w, r) for mdl, r in ((c["numerator"], rn), (c["denominator"], rd)))
+            num_, den = (_cycles(mdl, r, w) for mdl, r in ((c["numerator"], rn), (c["denominator"], rd)))
             at = float((num_ / den).subs({F.n: c["faces"], F.m: mv}))
             limit = sp.limit(num_ / den, F.n, sp.oo)
             solve = [x for x in sp.solve(sp.Eq(limit, c["ratio"]), F.m) if x.is_real] if limit.has(F.m) else []
@@ -166,8 +252,9 @@ def joint_ratio(c: dict, source: str) -> Claim:
     """Two cycle-ratio claims of one sentence, judged together under each reading."""
     parts = [cycle_ratio({**c, **sub, "id": c["id"], "quote": c["quote"]}, source) for sub in c["ratios"]]
     readings = []
-    for i, r in enumerate(parts[0].readings):
-        others = [p.readings[i] for p in parts[1:]]
+    by_name = [{r.reading: r for r in p.readings} for p in parts[1:]]
+    for r in parts[0].readings:
+        others = [named[r.reading] for named in by_name]  # one reading of the sentence for all its ratios
         readings.append(
             Reading(r.reading, r.holds and all(o.holds for o in others), "; ".join(x.outcome for x in [r, *others]))
         )
@@ -183,12 +270,9 @@ def joint_ratio(c: dict, source: str) -> Claim:
 def equal_kinds(c: dict, source: str) -> Claim:
     """The models' counts of ``kinds`` are equal at ``point``."""
     readings = []
-    for name, combo in _pairs_of_readings(*c["models"]):
+    for name, combo in _pairs_of_readings(*c["models"], kinds=tuple(c["kinds"])):
         vals = {
-            kind: [
-                F.evaluate(F.paper_forms(mdl, r)["convention"], **c["point"])[kind]
-                for mdl, r in zip(c["models"], combo)
-            ]
+            kind: [F.evaluate(convention_form(mdl, r), **c["point"])[kind] for mdl, r in zip(c["models"], combo)]
             for kind in c["kinds"]
         }
         ok = all(len(set(v)) == 1 for v in vals.values())
@@ -213,8 +297,8 @@ def differ_kinds(c: dict, source: str) -> Claim:
     difference, once as a difference beyond ``negligible`` (relative to the larger count, ``negligible_note``)."""
     (a, b), kind, point = c["models"], c["kind"], c["point"]
     readings = []
-    for name, (ra, rb) in _pairs_of_readings(a, b):
-        x, y = (F.evaluate(F.paper_forms(mdl, r)["convention"], **point)[kind] for mdl, r in ((a, ra), (b, rb)))
+    for name, (ra, rb) in _pairs_of_readings(a, b, kinds=(kind,)):
+        x, y = (F.evaluate(convention_form(mdl, r), **point)[kind] for mdl, r in ((a, ra), (b, rb)))
         rel = abs(x - y) / max(abs(x), abs(y), 1)
         shown = f"{algo(a)} {num(x)}, {algo(b)} {num(y)} (differ by {float(rel):.2%})"
         for how, ok in (

@@ -9,8 +9,6 @@ typical growth: :class:`~silcount.papers.claims.context.Evidence`).
 
 from __future__ import annotations
 
-import itertools
-
 import sympy as sp
 
 from silcount.mesh.shapes import builtin_mesh
@@ -262,57 +260,6 @@ def fan_triangles(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
-def coplanar(c: dict, source: str, ev: Evidence) -> Claim:
-    a, b = sp.symbols("a b", real=True)
-    Lv, p0, u, w = (sp.Matrix(sp.symbols(f"{x}0:3", real=True)) for x in ("L", "p", "u", "w"))
-    normal = u.cross(w)
-    moved = p0 + a * u + b * w
-    same = sp.expand((Lv - moved).dot(normal) - (Lv - p0).dot(normal)) == 0
-    return claim_from_data(
-        c,
-        source,
-        "algorithm",
-        rederived="(L - p).n is the same for every p of the plane",
-        measured=None,
-        verdict=HOLDS if same else FAILS,
-        reason="symbolic: moving p within the plane (p0 + a u + b w, n = u x w) leaves (L - p).n fixed.",
-    )
-
-
-def facing_sign(c: dict, source: str, ev: Evidence) -> Claim:
-    vv, fv, nf = (sp.Matrix(sp.symbols(f"{x}0:3", real=True)) for x in ("v", "f", "n"))
-    dist = (vv - fv).dot(nf)
-    D = (fv - vv).dot(nf) / (nf.norm() * (fv - vv).norm())
-    opposite = sp.simplify(D * nf.norm() * (fv - vv).norm() + dist) == 0
-    return claim_from_data(
-        c,
-        source,
-        "algorithm",
-        rederived="D_i = -||v, f|| / (|n| |f_v - v|)" if opposite else "same sign",
-        measured=None,
-        verdict=FAILS if opposite else HOLDS,
-        reason="D_i has the opposite sign of ||v, f||, so 'D_i > 0 then front face' calls back faces front "
-        "under the paper's own first test ('||v, f|| > 0 then f is a front face')."
-        if opposite
-        else "",
-    )
-
-
-def silhouette_product(c: dict, source: str, ev: Evidence) -> Claim:
-    ok = all(
-        ((s1 * s2) < 0) == ((s1 > 0) != (s2 > 0)) for s1, s2 in itertools.product((-2.0, -0.5, 0.5, 3.0), repeat=2)
-    )
-    return claim_from_data(
-        c,
-        source,
-        "algorithm",
-        rederived="product < 0 iff exactly one face is front-facing",
-        measured=None,
-        verdict=HOLDS if ok else FAILS,
-        reason="the paper's own definition (Sec. 2: one neighbour towards the light, one away).",
-    )
-
-
 def phong(c: dict, source: str, ev: Evidence) -> Claim:
     Ia, Ka, Kd, Il, NL, Ks, NH, nn = sp.symbols("I_a K_a K_d I_l NL K_s NH n", positive=True)
     terms = Ka * Ia + Kd * Il * NL + Il * Ks * NH**nn
@@ -382,8 +329,5 @@ RULES = {
     "loop_bound": loop_bound,
     "edge_count": edge_count,
     "fan_triangles": fan_triangles,
-    "coplanar": coplanar,
-    "facing_sign": facing_sign,
-    "silhouette_product": silhouette_product,
     "phong": phong,
 }

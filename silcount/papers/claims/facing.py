@@ -1,0 +1,91 @@
+"""The facing test's small facts: faces with one normal, the sign of the paper's D_i, the silhouette product.
+
+HSD paper Sec. V ("all same normal vectors have same status"); EESD paper
+Sec. 2 (D_i and ||v, f||, the product of the two faces' signs).  Each
+verdict is decided by sympy or by evaluating the test, never typed.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import sympy as sp
+
+from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings
+from silcount.papers.claims.context import Evidence
+
+
+def coplanar(c: dict, source: str, ev: Evidence) -> Claim:
+    """'All same normal vectors have same status' (HSD Sec. V), read three ways: the triangles of one flat face
+    (the paper's example), and faces with the same normal in parallel planes under a directional light and under a
+    point light (the paper's visibility test builds 'a ray from light source to the plan', Sec. VI 6.3)."""
+    a, b = sp.symbols("a b", real=True)
+    Lv, p0, u, w, d = (sp.Matrix(sp.symbols(f"{x}0:3", real=True)) for x in ("L", "p", "u", "w", "d"))
+    normal = u.cross(w)
+    moved = p0 + a * u + b * w
+    in_plane = sp.expand((Lv - moved).dot(normal) - (Lv - p0).dot(normal)) == 0
+    # a directional light: the facing value d . n does not involve the face's position at all
+    directional = not (d.dot(normal)).free_symbols & set(p0)
+    # a point light between two parallel planes: n = (0, 1, 0), planes y = 0 and y = 2, L = (0, 1, 0)
+    n_, L_ = sp.Matrix([0, 1, 0]), sp.Matrix([0, 1, 0])
+    lower, upper = ((L_ - sp.Matrix([0, y, 0])).dot(n_) for y in (0, 2))
+    readings = [
+        Reading("the triangles of one flat face (the example: 'a faces with n vertices ... n-2 triangles')", in_plane,
+                "symbolic: moving p within the plane (p0 + a u + b w, n = u x w) leaves (L - p).n fixed"),
+        Reading("faces with the same normal in parallel planes, directional light", directional,
+                "d.n does not depend on the face's position"),
+        Reading("faces with the same normal in parallel planes, point light (HSD's visibility builds a ray from "
+                "the light source to the plane)", bool(sp.sign(lower) == sp.sign(upper)),
+                f"n = (0, 1, 0) on the planes y = 0 and y = 2, L = (0, 1, 0): (L - p).n = {lower} and {upper}, "
+                "one face lit and the other not"),
+    ]  # fmt: skip
+    return judged_by_readings(
+        c,
+        source,
+        "algorithm",
+        readings,
+        "the sentence names 'same normal vectors'; its example and HSD's merge ('each face that is flat') are "
+        "coplanar faces, for which it holds under any light, and faces that only share a normal keep one status "
+        "only under a directional light.",
+    )
+
+
+def facing_sign(c: dict, source: str, ev: Evidence) -> Claim:
+    vv, fv, nf = (sp.Matrix(sp.symbols(f"{x}0:3", real=True)) for x in ("v", "f", "n"))
+    dist = (vv - fv).dot(nf)
+    D = (fv - vv).dot(nf) / (nf.norm() * (fv - vv).norm())
+    opposite = sp.simplify(D * nf.norm() * (fv - vv).norm() + dist) == 0
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="D_i = -||v, f|| / (|n| |f_v - v|)" if opposite else "same sign",
+        measured=None,
+        verdict=FAILS if opposite else HOLDS,
+        reason="D_i has the opposite sign of ||v, f||, so 'D_i > 0 then front face' calls back faces front "
+        "under the paper's own first test ('||v, f|| > 0 then f is a front face')."
+        if opposite
+        else "",
+    )
+
+
+def silhouette_product(c: dict, source: str, ev: Evidence) -> Claim:
+    ok = all(
+        ((s1 * s2) < 0) == ((s1 > 0) != (s2 > 0)) for s1, s2 in itertools.product((-2.0, -0.5, 0.5, 3.0), repeat=2)
+    )
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="product < 0 iff exactly one face is front-facing",
+        measured=None,
+        verdict=HOLDS if ok else FAILS,
+        reason="the paper's own definition (Sec. 2: one neighbour towards the light, one away).",
+    )
+
+
+RULES = {
+    "coplanar": coplanar,
+    "facing_sign": facing_sign,
+    "silhouette_product": silhouette_product,
+}
