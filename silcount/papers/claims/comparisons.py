@@ -39,7 +39,8 @@ from silcount.papers.claims.base import (
     unit_weights,
 )
 
-SCALES = {"cycles": ("paper cycle weights", paper_weights), "raw": ("raw operation counts", unit_weights)}
+WEIGHTS = "the EESD paper's cycle weights"  # Sec. 6 (Mult 4, Add 2, Compare 3, Read 1, Write 2); HSD 2011 gives none
+SCALES = {"cycles": (WEIGHTS, paper_weights), "raw": ("raw operation counts", unit_weights)}
 
 
 @dataclass(frozen=True)
@@ -93,7 +94,7 @@ def _overrides(model: str, chosen: dict[str, str]) -> F.Override:
     return tuple(out)
 
 
-def _pairs_of_readings(*model_list: str, kinds: tuple[str, ...] = KINDS):
+def readings_of(*model_list: str, kinds: tuple[str, ...] = KINDS):
     """(name, one ModelReading per model) for every reading of the comparison: each model's loop readings, times
     each contested primitive's computations, one computation per primitive for all the models that use it
     (a primitive whose computations differ in none of the compared ``kinds`` changes nothing, and is left out)."""
@@ -116,12 +117,13 @@ def convention_form(model: str, r: ModelReading) -> F.Form:
     return F.in_n(F.convention(model, r.loop, r.overrides), model)
 
 
-def _cycles(model: str, r: ModelReading, weights: tuple) -> sp.Expr:
+def cycles_under(model: str, r: ModelReading, weights: tuple) -> sp.Expr:
+    """The cycle total (sympy, in n and m) of ``model``'s papers'-convention sum under reading ``r``."""
     return F.weighted(convention_form(model, r), dict(weights))
 
 
 def _value(model: str, reading: ModelReading, weights: tuple, point: dict):
-    return sp.nsimplify(_cycles(model, reading, weights).subs({F.n: point["n"], F.m: point["m"]}))
+    return sp.nsimplify(cycles_under(model, reading, weights).subs({F.n: point["n"], F.m: point["m"]}))
 
 
 def _printed_value(model: str, weights: tuple, point: dict):
@@ -148,9 +150,9 @@ def pairwise(c: dict, source: str) -> list[Claim]:
     for point, (scale, (label, weights_of)) in itertools.product(c["points"], SCALES.items()):
         w = weights_of()
         readings = []
-        for name, (rw, ro) in _pairs_of_readings(winner, other):
+        for name, (rw, ro) in readings_of(winner, other):
             a, b = _value(winner, rw, w, point), _value(other, ro, w, point)
-            at_n = _cycles(winner, rw, w).subs(F.n, point["n"]) - _cycles(other, ro, w).subs(F.n, point["n"])
+            at_n = cycles_under(winner, rw, w).subs(F.n, point["n"]) - cycles_under(other, ro, w).subs(F.n, point["n"])
             readings.append(
                 Reading(
                     name or "as printed",
@@ -178,7 +180,7 @@ def pairwise(c: dict, source: str) -> list[Claim]:
 
 
 def _leading(model: str, reading: ModelReading, weights: tuple) -> sp.Expr:
-    return sp.expand(F.leading(_cycles(model, reading, weights)) / F.n**2)
+    return sp.expand(F.leading(cycles_under(model, reading, weights)) / F.n**2)
 
 
 def fewest_asymptotic(c: dict, source: str) -> Claim:
@@ -186,7 +188,7 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
     w = paper_weights()
     readings = []
     for mv in c["m_values"]:
-        for name, combo in _pairs_of_readings(c["winner"], *c["others"]):
+        for name, combo in readings_of(c["winner"], *c["others"]):
             lw = _leading(c["winner"], combo[0], w)
             parts, ok = [], True
             for other, ro in zip(c["others"], combo[1:]):
@@ -203,7 +205,7 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
         source,
         "comparison",
         readings,
-        "leading cycle terms (paper weights) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
+        f"leading cycle terms ({WEIGHTS}) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
     )
 
 
@@ -212,8 +214,8 @@ def cycle_ratio(c: dict, source: str) -> Claim:
     w = paper_weights()
     readings = []
     for mv in c["m_values"]:
-        for name, (rn, rd) in _pairs_of_readings(c["numerator"], c["denominator"]):
-            num_, den = (_cycles(mdl, r, w) for mdl, r in ((c["numerator"], rn), (c["denominator"], rd)))
+        for name, (rn, rd) in readings_of(c["numerator"], c["denominator"]):
+            num_, den = (cycles_under(mdl, r, w) for mdl, r in ((c["numerator"], rn), (c["denominator"], rd)))
             at = float((num_ / den).subs({F.n: c["faces"], F.m: mv}))
             limit = sp.limit(num_ / den, F.n, sp.oo)
             solve = [x for x in sp.solve(sp.Eq(limit, c["ratio"]), F.m) if x.is_real] if limit.has(F.m) else []
@@ -242,7 +244,7 @@ def cycle_ratio(c: dict, source: str) -> Claim:
         source,
         "comparison",
         readings,
-        f"paper cycle weights, papers'-convention sums; {c['tolerance_note']} Raw counts of the printed forms: "
+        f"{WEIGHTS}, papers'-convention sums; {c['tolerance_note']} Raw counts of the printed forms: "
         + ", ".join(f"m={mv}: {r:.3f}" for mv, r in zip(c["m_values"], raw))
         + ".",
     )
@@ -263,14 +265,14 @@ def joint_ratio(c: dict, source: str) -> Claim:
         source,
         "comparison",
         readings,
-        "both ratios of the sentence must hold under one reading; paper cycle weights.",
+        f"both ratios of the sentence must hold under one reading; {WEIGHTS}.",
     )
 
 
 def equal_kinds(c: dict, source: str) -> Claim:
     """The models' counts of ``kinds`` are equal at ``point``."""
     readings = []
-    for name, combo in _pairs_of_readings(*c["models"], kinds=tuple(c["kinds"])):
+    for name, combo in readings_of(*c["models"], kinds=tuple(c["kinds"])):
         vals = {
             kind: [F.evaluate(convention_form(mdl, r), **c["point"])[kind] for mdl, r in zip(c["models"], combo)]
             for kind in c["kinds"]
@@ -297,7 +299,7 @@ def differ_kinds(c: dict, source: str) -> Claim:
     difference, once as a difference beyond ``negligible`` (relative to the larger count, ``negligible_note``)."""
     (a, b), kind, point = c["models"], c["kind"], c["point"]
     readings = []
-    for name, (ra, rb) in _pairs_of_readings(a, b, kinds=(kind,)):
+    for name, (ra, rb) in readings_of(a, b, kinds=(kind,)):
         x, y = (F.evaluate(convention_form(mdl, r), **point)[kind] for mdl, r in ((a, ra), (b, rb)))
         rel = abs(x - y) / max(abs(x), abs(y), 1)
         shown = f"{algo(a)} {num(x)}, {algo(b)} {num(y)} (differ by {float(rel):.2%})"

@@ -4,11 +4,13 @@ EESD paper Sec. 6 (TA 69.93, VnV 65.51, EESD 73.16 FPS; no machine named);
 HSD paper Sec. I and VIII (69.93 -> 75.53; "conventional method that is
 maximum 67.54 FPS"; "P IV 2.8GH", bunny data, Table 1: 2207 edges).  The
 cycle model is the papers' own: the papers'-convention sums with the paper's
-weights, one cycle per clock tick; predicted detection time = cycles / clock.
+weights, one cycle per clock tick, under every reading a comparison takes
+(:func:`.comparisons.readings_of`); predicted detection time = cycles / clock.
 A detection time longer than the reported frame time cannot be right (the
 frame also renders).  The mesh's n follows from its edge count under two
-readings: the papers' own ``e_n = 6n``, or n = faces of a closed triangle
-mesh (F = 2E/3).
+readings: the papers' own ``e_n = 6n``, n = faces of a closed triangle
+mesh (F = 2E/3), or n = its vertices (V = E/3 + 2 at genus 0), as HSD Sec. VII
+and EESD Sec. 5 call n ("n vertices, f_n faces, e_n edges").
 """
 
 from __future__ import annotations
@@ -18,13 +20,18 @@ import itertools
 import sympy as sp
 
 from silcount.papers import formulas as F
-from silcount.papers.claims.base import Claim, Reading, algo, claim_from_data, cycles, judged_by_readings, paper_weights
+from silcount.papers.claims.base import Claim, Reading, algo, claim_from_data, judged_by_readings, paper_weights
+from silcount.papers.claims.comparisons import cycles_under, readings_of
 
 
 def _n_readings(edges: int) -> list[tuple[str, sp.Expr]]:
     return [
         (f"n = E/6 = {edges / 6:.1f} (the papers' e_n = 6n)", sp.Rational(edges, 6)),
         (f"n = F = 2E/3 = {2 * edges / 3:.1f} (faces of a closed triangle mesh)", sp.Rational(2 * edges, 3)),
+        (
+            f"n = V = E/3 + 2 = {edges / 3 + 2:.1f} (the papers' 'n vertices', of a closed genus-0 triangle mesh)",
+            sp.Rational(edges, 3) + 2,
+        ),
     ]
 
 
@@ -34,12 +41,12 @@ def frame_time(c: dict, source: str) -> list[Claim]:
     out = []
     for model, fps in c["fps"].items():
         readings = []
-        for (n_name, n_val), r in itertools.product(_n_readings(c["edges"]), F.readings(model)):
-            cyc = float(cycles(model, "convention", w, r).subs({F.n: n_val, F.m: c["m"]}))
+        for (n_name, n_val), (r_name, (r,)) in itertools.product(_n_readings(c["edges"]), readings_of(model)):
+            cyc = float(cycles_under(model, r, w).subs({F.n: n_val, F.m: c["m"]}))
             t_ms, frame_ms = 1e3 * cyc / clock, 1e3 / fps
             readings.append(
                 Reading(
-                    f"{n_name}" + (f", {r}" if r else ""),
+                    f"{n_name}" + (f", {r_name}" if r_name else ""),
                     t_ms < frame_ms,
                     f"{cyc:.4g} cycles = {t_ms:.3g} ms at {c['clock_ghz']} GHz vs a {frame_ms:.3g} ms frame; "
                     f"fits only at >= {cyc * fps / 1e9:.3g} GHz",
@@ -66,12 +73,12 @@ def fps_order(c: dict, source: str) -> Claim:
     by_fps = sorted(fps, key=lambda mdl: -fps[mdl])
     w = paper_weights()
     readings = []
-    for point in c["points"]:
-        vals = {mdl: cycles(mdl, "convention", w).subs({F.n: point["n"], F.m: point["m"]}) for mdl in fps}
+    for point, (r_name, combo) in itertools.product(c["points"], list(readings_of(*fps))):
+        vals = {mdl: cycles_under(mdl, r, w).subs({F.n: point["n"], F.m: point["m"]}) for mdl, r in zip(fps, combo)}
         order = sorted(fps, key=lambda mdl: float(vals[mdl]))
         readings.append(
             Reading(
-                point["name"],
+                point["name"] + (f", {r_name}" if r_name else ""),
                 order == by_fps,
                 "fewest cycles first: " + " < ".join(f"{algo(x)} {float(vals[x]):.4g}" for x in order),
             )
