@@ -136,15 +136,35 @@ def sorted_positions(keys: np.ndarray, key_bits: int, idx_bits: int) -> np.ndarr
                        numba.get_num_threads())  # fmt: skip
 
 
+@njit(cache=True, inline="always")
+def _widen(b, x0, x1, x2, x3):  # pragma: no cover - compiled
+    """Box ``b`` (``l0 .. l3, h0 .. h3``) widened by one face row, in order: a strictly smaller (larger) value
+    replaces the bound, as in the counted build."""
+    return (x0 if x0 < b[0] else b[0], x1 if x1 < b[1] else b[1], x2 if x2 < b[2] else b[2],
+            x3 if x3 < b[3] else b[3], x0 if x0 > b[4] else b[4], x1 if x1 > b[5] else b[5],
+            x2 if x2 > b[6] else b[6], x3 if x3 > b[7] else b[7])  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _store_box(box, j, b, bad):  # pragma: no cover - compiled
+    """Leaf ``j``'s box ``b``, or ``[-inf, inf]`` where a row was NaN (``bad``)."""
+    inf = np.float32(np.inf)
+    for c in range(4):
+        box[j, c] = -inf if bad else b[c]
+        box[j, 4 + c] = inf if bad else b[4 + c]
+
+
 @njit(cache=True, parallel=True)
-def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes, chunks):  # pragma: no cover - compiled
-    """The two-faced edges into the tree's arrays, first, in leaf order: their ids (``order``), and both faces'
-    planes side by side (``planes``).
+def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes, leaf_size, box, chunks):  # pragma: no cover
+    """The two-faced edges into the tree's arrays, first, in leaf order: their ids (``order``), both faces'
+    planes side by side (``planes``), and each leaf's box over them (``box``, the tree's leaf slots).
 
     Two passes, each of independent reads, so that the processor overlaps their cache misses: each edge's
-    id and its rows' face ids (parked in the rows' first four bytes), then each row's plane by that face id.
-    One pass of dependent reads took 1.7x as long on the 1.04 M bunny.  Each thread takes a run and asks
-    for the rows ``ROWS_AHEAD`` ahead (:mod:`.prefetch`): 14-20 ms -> 11-12 ms on the 1.04 M bunny.
+    id and its rows' face ids (parked in the rows' first four bytes), then leaf by leaf each row's plane by
+    that face id, widening the leaf's box as it is written.  One pass of dependent reads took 1.7x as long
+    on the 1.04 M bunny.  Each thread takes a run and asks for the rows ``ROWS_AHEAD`` ahead
+    (:mod:`.prefetch`): 14-20 ms -> 11-12 ms on the 1.04 M bunny; boxing the leaves here rather than in a
+    third pass over the planes (:func:`_leaf_boxes`) saved 2 ms more.
     """
     parked = planes.view(np.int32)
     n = pos.size
@@ -159,14 +179,23 @@ def _gather_pairs(pos, two_ids, every, pair_faces, plane, order, planes, chunks)
             order[i] = j if every else two_ids[j]
             parked[2 * i, 0] = pair_faces[j, 0]
             parked[2 * i + 1, 0] = pair_faces[j, 1]
+    leaves, rows = box.shape[0], 2 * n
+    inf = np.float32(np.inf)
     for t in prange(chunks):
-        end = (t + 1) * 2 * n // chunks
-        for q in range(t * 2 * n // chunks, end):
-            if q + ROWS_AHEAD < end:
-                prefetch(plane, np.int64(parked[q + ROWS_AHEAD, 0]))
-            f = parked[q, 0]
-            for c in range(4):
-                planes[q, c] = plane[f, c]
+        last = (t + 1) * leaves // chunks
+        end = min(rows, 2 * leaf_size * last)
+        for leaf in range(t * leaves // chunks, last):
+            b = (inf, inf, inf, inf, -inf, -inf, -inf, -inf)
+            bad = False
+            for q in range(2 * leaf_size * leaf, min(rows, 2 * leaf_size * (leaf + 1))):
+                if q + ROWS_AHEAD < end:
+                    prefetch(plane, np.int64(parked[q + ROWS_AHEAD, 0]))
+                f = parked[q, 0]
+                x0, x1, x2, x3 = plane[f, 0], plane[f, 1], plane[f, 2], plane[f, 3]
+                planes[q, 0], planes[q, 1], planes[q, 2], planes[q, 3] = x0, x1, x2, x3
+                bad |= x0 != x0
+                b = _widen(b, x0, x1, x2, x3)
+            _store_box(box, leaf, b, bad)
 
 
 @njit(cache=True)
@@ -186,37 +215,20 @@ def _gather_others(pos, other, o_start, o_faces, plane, order, start, planes):  
 
 
 @njit(cache=True, parallel=True)
-def _leaf_boxes(planes, T, start, pairs, leaf_size, box, boundary):  # pragma: no cover - compiled
-    """Each leaf's box over its edges' faces' planes (``[-inf, inf]`` if one is NaN), its boundary flag.
-
-    Edge ``e`` of the tree (``T`` edges) reads face rows ``2 e, 2 e + 1`` (``pairs``) or ``start[e] ..
-    start[e + 1]`` of ``planes``; each row's four values widen the box in order, a strictly smaller (larger)
-    value replacing the bound, as in the counted build.
-    """
+def _leaf_boxes(planes, T, start, leaf_size, box, boundary):  # pragma: no cover - compiled
+    """Each leaf's box over its edges' faces' planes (``[-inf, inf]`` if one is NaN), its boundary flag, for
+    the tree of the other edges: edge ``e`` (of ``T``) reads face rows ``start[e] .. start[e + 1]`` of
+    ``planes``, each widening the box in order (:func:`_widen`)."""
     inf = np.float32(np.inf)
     for j in prange(box.shape[0]):
-        l0 = l1 = l2 = l3 = inf
-        h0 = h1 = h2 = h3 = -inf
+        b = (inf, inf, inf, inf, -inf, -inf, -inf, -inf)
         bad = flag = False
         for e in range(j * leaf_size, min(T, j * leaf_size + leaf_size)):
-            q0, q1 = (2 * e, 2 * e + 2) if pairs else (start[e], start[e + 1])
-            flag |= q1 - q0 == 1
-            for q in range(q0, q1):
-                x0, x1, x2, x3 = planes[q, 0], planes[q, 1], planes[q, 2], planes[q, 3]
-                bad |= x0 != x0
-                l0 = x0 if x0 < l0 else l0
-                l1 = x1 if x1 < l1 else l1
-                l2 = x2 if x2 < l2 else l2
-                l3 = x3 if x3 < l3 else l3
-                h0 = x0 if x0 > h0 else h0
-                h1 = x1 if x1 > h1 else h1
-                h2 = x2 if x2 > h2 else h2
-                h3 = x3 if x3 > h3 else h3
-        if bad:
-            l0 = l1 = l2 = l3 = -inf
-            h0 = h1 = h2 = h3 = inf
-        box[j, 0], box[j, 1], box[j, 2], box[j, 3] = l0, l1, l2, l3
-        box[j, 4], box[j, 5], box[j, 6], box[j, 7] = h0, h1, h2, h3
+            flag |= start[e + 1] - start[e] == 1
+            for q in range(start[e], start[e + 1]):
+                bad |= planes[q, 0] != planes[q, 0]
+                b = _widen(b, planes[q, 0], planes[q, 1], planes[q, 2], planes[q, 3])
+        _store_box(box, j, b, bad)
         boundary[j] = flag
 
 
@@ -241,16 +253,13 @@ def _upper_boxes(box, boundary, lv, fanout):  # pragma: no cover - compiled
             boundary[p] = flag
 
 
-def tree_boxes(planes: np.ndarray, base: int, start: np.ndarray | None, T: int, lv: np.ndarray, leaf_size: int,
-               fanout: int, box: np.ndarray, boundary: np.ndarray) -> None:  # fmt: skip
-    """One tree's boxes and flags (slots ``lv[0] .. lv[-1]``) over its ``T`` edges' rows from ``base`` (two a
-    pair edge, or the CSR ``start``): its leaves, then each level up."""
+def tree_boxes(planes: np.ndarray, start: np.ndarray, T: int, lv: np.ndarray, leaf_size: int, fanout: int,
+               box: np.ndarray, boundary: np.ndarray) -> None:  # fmt: skip
+    """The other edges' tree's boxes and flags (slots ``lv[0] .. lv[-1]``) over its ``T`` edges' rows of
+    ``planes`` (the CSR ``start``): its leaves, then each level up."""
     if lv.size < 2:
         return
-    pairs = start is None
-    first_leaf = lv[-2]
-    _leaf_boxes(planes[base:], T, np.zeros(1, dtype=np.int64) if pairs else start, pairs, leaf_size,
-                box[first_leaf : lv[-1]], boundary[first_leaf : lv[-1]])  # fmt: skip
+    _leaf_boxes(planes, T, start, leaf_size, box[lv[-2] : lv[-1]], boundary[lv[-2] : lv[-1]])
     _upper_boxes(box, boundary, lv, fanout)
 
 
@@ -283,21 +292,23 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     S1 = int(o_start[-1]) if T1 else 0
     order = np.empty(T2 + T1, dtype=np.int32)
     planes = np.empty((2 * T2 + S1, 4), dtype=np.float32)
+    pair_lv = level_starts(T2, leaf_size, fanout)
+    other_lv = level_starts(T1, leaf_size, fanout, int(pair_lv[-1]))
+    N = int(other_lv[-1])
+    box, boundary = np.empty((N, 8), dtype=np.float32), np.zeros(N, dtype=np.bool_)
+    pair_leaves = box[pair_lv[-2] : pair_lv[-1]] if pair_lv.size > 1 else box[:0]  # the pair edges' flags stay 0
     _gather_pairs(pos, np.zeros(0, dtype=np.int64) if two_ids is None else two_ids, two_ids is None, pair_faces, plane,
-                  order, planes, numba.get_num_threads())  # fmt: skip
+                  order, planes, leaf_size, pair_leaves, numba.get_num_threads())  # fmt: skip
     del pos
+    if pair_lv.size > 1:
+        _upper_boxes(box, boundary, pair_lv, fanout)
     other_start = np.zeros(T1 + 1, dtype=np.int64)
     if T1:
         obits = index_bits(T1)
         opos = sorted_positions(scheme.fast(plane, other_key_faces(o_start, o_faces), consts, obits), scheme.bits,
                                 obits)  # fmt: skip
         _gather_others(opos, other, o_start, o_faces, plane, order[T2:], other_start, planes[2 * T2 :])
-    pair_lv = level_starts(T2, leaf_size, fanout)
-    other_lv = level_starts(T1, leaf_size, fanout, int(pair_lv[-1]))
-    N = int(other_lv[-1])
-    box, boundary = np.empty((N, 8), dtype=np.float32), np.zeros(N, dtype=np.bool_)
-    tree_boxes(planes, 0, None, T2, pair_lv, leaf_size, fanout, box, boundary)
-    tree_boxes(planes, 2 * T2, other_start, T1, other_lv, leaf_size, fanout, box, boundary)
+    tree_boxes(planes[2 * T2 :], other_start, T1, other_lv, leaf_size, fanout, box, boundary)
     sizes = build_sizes(mesh.n_faces, int(np.count_nonzero(plane[:, 0] == plane[:, 0])), T2, T1, S1, N,
                         leaf_size, fanout, scheme)  # fmt: skip
     return Hierarchy(order, T2, planes, other_start, box, pair_lv, other_lv, boundary, p0_max, leaf_size,
