@@ -191,6 +191,19 @@ def _best_paper(wide: pd.DataFrame, frame: pd.DataFrame, what: str, unit: str) -
     return text + f"; the lowest of the first four over the lowest of the others: median {ratio:.3g}x."
 
 
+def _fewest(ops: pd.DataFrame) -> str:
+    """Who needs the fewest operations, mesh by mesh, a tie named as one ('a tie of A and B'), most first."""
+    best = ops.eq(ops.min(axis=1), axis=0)
+    ranked = [d for d in ORDER if d in best]
+    winners = best[ranked].apply(lambda row: tuple(d for d in ranked if row[d]), axis=1).value_counts()
+    parts = []
+    for who, n in sorted(winners.items(), key=lambda kv: (-kv[1], [ranked.index(d) for d in kv[0]])):
+        names = [LABELS[d] for d in who]
+        label = names[0] if len(names) == 1 else "a tie of " + ", ".join(names[:-1]) + " and " + names[-1]
+        parts.append(f"{label} on {int(n)}")
+    return ", ".join(parts) + f" of {len(ops)}"
+
+
 def findings(frame: pd.DataFrame, fits: dict, timed: bool) -> list[str]:
     """The findings paragraph's sentences, each computed from ``frame`` (:func:`kind_frame`) and ``fits``."""
     out: list[str] = []
@@ -213,9 +226,7 @@ def findings(frame: pd.DataFrame, fits: dict, timed: bool) -> list[str]:
     else:
         out.append("Times: not measured in this sweep (`silcount report` writes none, so that its output is "
                    "byte-identical; `silcount corpus ... --out DIR` measures them).")  # fmt: skip
-    lowest = ops.dropna(how="all").idxmin(axis=1).value_counts()
-    ranked = ", ".join(f"{LABELS[str(d)]} on {int(n)}" for d, n in lowest.items())
-    out.append(f"Fewest true operations per light: {ranked} of {len(ops.dropna(how='all'))} {unit}.")
+    out.append(f"Fewest true operations per light: {_fewest(ops.dropna(how='all'))} {unit}.")
     for det in LITERATURE:
         for kind in sorted(set(frame["light_kind"])):
             out += _sensitivity(det, kind, frame, fits)
