@@ -195,9 +195,12 @@ def _fewest(ops: pd.DataFrame) -> str:
     """Who needs the fewest operations, mesh by mesh, a tie named as one ('a tie of A and B'), most first."""
     best = ops.eq(ops.min(axis=1), axis=0)
     ranked = [d for d in ORDER if d in best]
-    winners = best[ranked].apply(lambda row: tuple(d for d in ranked if row[d]), axis=1).value_counts()
+    counts: dict[tuple[str, ...], int] = {}
+    for row in best[ranked].itertuples(index=False):
+        who = tuple(d for d, won in zip(ranked, row) if won)
+        counts[who] = counts.get(who, 0) + 1
     parts = []
-    for who, n in sorted(winners.items(), key=lambda kv: (-kv[1], [ranked.index(d) for d in kv[0]])):
+    for who, n in sorted(counts.items(), key=lambda kv: (-kv[1], [ranked.index(d) for d in kv[0]])):
         names = [LABELS[d] for d in who]
         label = names[0] if len(names) == 1 else "a tie of " + ", ".join(names[:-1]) + " and " + names[-1]
         parts.append(f"{label} on {int(n)}")
