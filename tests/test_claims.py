@@ -492,3 +492,20 @@ def test_comparisons_carry_the_readings_of_the_primitives_they_charge(by_key):
     assert by_key["eesd-cheaper-than-vnv n=100 m=10 cycles"].verdict == "HOLDS"
     for r in by_key["hsd-cheaper-than-ta n=10 m=5 raw"].readings:
         assert r.reading.count("the edge inverse as") == 1
+
+
+def test_the_shadow_matrix_is_drawn_or_clipped_by_the_normal_it_is_given(by_key):
+    """The printed matrix's last row is (N, -D), with D = N.L where it is exact: w = N.P - N.L.  Light (0, 5, 0),
+    floor y = 0, occluder point (0.3, 2, 0.1): w = 2 - 5 = -3 with N up (towards the light), clipped by a
+    perspective projection; with N down, w = -2 + 5 = 3, drawn.  The paper does not orient N."""
+    c = by_key["stencil-shadow-matrix"]
+    gl = {r.reading.split(", ")[-1]: r for r in c.readings if "OpenGL" in r.reading}
+    assert gl["the plane's normal N facing the light"].holds is False and "w = N.P - N.L = -3" in str(gl)
+    assert gl["N facing away from the light"].holds is True and "= 3 for" in gl["N facing away from the light"].outcome
+    assert c.verdict == AMBIGUOUS
+
+
+def test_a_truncated_volume_keeps_the_shadows_of_receivers_before_the_clipping_plane(by_key):
+    c = by_key["stencil-truncated-volume"]
+    assert [r.holds for r in c.readings] == [True, True, False] and "beyond" in c.readings[2].reading
+    assert c.verdict == AMBIGUOUS and "Fig. 7" in c.table_reading

@@ -129,11 +129,13 @@ def printed_is_minus_standard() -> bool:
     return all(sp.expand(x) == 0 for x in diff)
 
 
-def w_of_occluder_point() -> sp.Expr:
+def w_of_occluder_point(normal_y: int = 1) -> sp.Expr:
     """The printed matrix's w for a sample occluder point between the light and the plane (exact E, D):
-    light (0, 5, 0), plane y = 0 (N = (0, 1, 0), C = 0), P = (0.3, 2, 0.1)."""
+    light (0, 5, 0), plane y = 0 (N = (0, ``normal_y``, 0): 1 faces the light, -1 faces away; C = 0),
+    P = (0.3, 2, 0.1).  Negating N negates the whole matrix (E and D are linear in N), the same projective
+    map with the opposite w."""
     h = shadow_matrix().subs(_exact_subs()) * sp.Matrix([*P, 1])
-    sample = {SYM["Lx"]: 0, SYM["Ly"]: 5, SYM["Lz"]: 0, SYM["Nx"]: 0, SYM["Ny"]: 1, SYM["Nz"]: 0}
+    sample = {SYM["Lx"]: 0, SYM["Ly"]: 5, SYM["Lz"]: 0, SYM["Nx"]: 0, SYM["Ny"]: normal_y, SYM["Nz"]: 0}
     sample |= {SYM["Cx"]: 0, SYM["Cy"]: 0, SYM["Cz"]: 0, SYM["Px"]: sp.Rational(3, 10), SYM["Py"]: 2}
     sample |= {SYM["Pz"]: sp.Rational(1, 10)}
     return sp.nsimplify(h[3].subs(sample))

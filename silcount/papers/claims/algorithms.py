@@ -213,7 +213,12 @@ def truncated_volume(c: dict, source: str, ev: Evidence) -> Claim:
             "a point in shadow lies between the occluder and the plane, inside the truncated volume",
         ),
         Reading(
-            "receivers off the clipping plane (the paper's torus and sphere, stencil paper Sec. 6)",
+            "receivers off the plane, all between the occluder and the clipping plane",
+            True,
+            "their shadowed points lie between the occluder and the plane, inside the truncated volume",
+        ),
+        Reading(
+            "receivers reaching beyond the clipping plane (seen from the light)",
             False,
             "shadow on a receiver beyond the clipping plane is lost",
         ),
@@ -243,15 +248,16 @@ def _projection(c: dict, source: str, ev: Evidence) -> Claim:
         measured = None
     elif obj == "shadow_matrix":
         readings = [Reading(f"{r.reading}, as a projective map", r.holds, r.outcome) for r in _projection_readings(obj)]
-        w_sign = projection.w_of_occluder_point()
-        readings.append(
-            Reading(
-                "as the OpenGL modelview matrix (MultMatrix, then a perspective projection)",
-                False,
-                f"with the exact E, D, w = N.P - N.L = {sp.sstr(w_sign)} < 0 for an occluder point "
-                "between the light and the plane: clipped",
+        for normal_y, side in ((1, "the plane's normal N facing the light"), (-1, "N facing away from the light")):
+            w = projection.w_of_occluder_point(normal_y)
+            readings.append(
+                Reading(
+                    f"as the OpenGL modelview matrix (MultMatrix, then a perspective projection), {side}",
+                    bool(w > 0),
+                    f"with the exact E, D, w = N.P - N.L = {sp.sstr(w)} for an occluder point between the light "
+                    "and the plane: " + ("drawn" if w > 0 else "w < 0, clipped"),
+                )
             )
-        )
         reason = (
             "the printed matrix is the standard planar shadow matrix (Real-Time Rendering, its [28]) times -1"
             if projection.printed_is_minus_standard()
@@ -306,7 +312,7 @@ def hit_count(c: dict, source: str, ev: Evidence) -> Claim:
         differ = {name: int(sum((k >= 1) != two(k) for k in ks)) for name, ks in counts.items()}
         readings.append(
             Reading(
-                f"'two faces' as {reading}",
+                f"'two faces' as {reading}, each statement the whole test (not a silhouette if and only if)",
                 not any(differ.values()),
                 ", ".join(f"{name}: {d} of {len(counts[name])} rays judged differently" for name, d in differ.items()),
             )
@@ -323,7 +329,8 @@ def hit_count(c: dict, source: str, ev: Evidence) -> Claim:
         measured=f"faces crossed per ray, light at {tuple(c['light'])}, v' = v (1 + 1e-4): {hist}",
         reason="on a closed mesh a ray that meets the occluder crosses it an even number of times, so 'one of the "
         "faces' and 'at least two' agree; 'exactly two' differs wherever a ray crosses four faces (the torus); "
-        "the paper does not say which it means.",
+        "the paper does not say which it means (read as a plain 'if', the second statement says nothing of a ray "
+        "that crosses four faces).",
     )
 
 
