@@ -45,8 +45,7 @@ from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_naive import read32
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
-from silcount.detectors.morton import counted_octahedral, interleave3, octahedral
-from silcount.detectors.prefetch import prefetch_faces
+from silcount.detectors.morton import counted_octahedral, interleave3, octahedral, plane_sum
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -110,13 +109,9 @@ def _keys(plane, kf, lo2, scale, idx_bits, keys, chunks):  # pragma: no cover - 
     for t in prange(chunks):  # each thread a run of edges, asking ROWS_AHEAD edges ahead for their faces' planes
         end = (t + 1) * T // chunks
         for i in range(t * T // chunks, end):
-            prefetch_faces(plane, kf, i, end)
-            a, b = kf[i, 0], kf[i, 1]
-            x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
-            y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
-            z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+            x, y, z, w = plane_sum(plane, kf, i, end)
             nx, ny = octahedral(x, y, z, QUANT_N)
-            q = (np.float64(plane[a, 3]) + np.float64(plane[b, 3]) - lo2) * scale
+            q = (w - lo2) * scale
             keys[i] = (interleave3(nx, ny, _offset_cell(q)) << sh) | np.uint64(i)
 
 

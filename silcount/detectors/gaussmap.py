@@ -44,8 +44,7 @@ from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.hierarchy_naive import read32
 from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
-from silcount.detectors.morton import counted_octahedral, interleave2, octahedral
-from silcount.detectors.prefetch import prefetch_faces
+from silcount.detectors.morton import counted_octahedral, interleave2, octahedral, plane_sum
 from silcount.detectors.result import Silhouette
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -72,11 +71,7 @@ def _keys(plane, kf, idx_bits, keys, chunks):  # pragma: no cover - compiled
     for t in prange(chunks):  # each thread a run of edges, asking ROWS_AHEAD edges ahead for their faces' planes
         end = (t + 1) * T // chunks
         for i in range(t * T // chunks, end):
-            prefetch_faces(plane, kf, i, end)
-            a, b = kf[i, 0], kf[i, 1]
-            x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
-            y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
-            z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+            x, y, z, _ = plane_sum(plane, kf, i, end)
             cx, cy = octahedral(x, y, z, QUANT)
             keys[i] = (interleave2(cx, cy) << sh) | np.uint64(i)
 

@@ -1,6 +1,7 @@
 """Z-order (Morton) codes and the octahedral map: how the hierarchies' keys turn a cell into one integer.
 
-Used by the hierarchies' keys (:mod:`.gaussmap`, :mod:`.cones`).  Integer
+Used by the hierarchies' keys (:mod:`.gaussmap`, :mod:`.cones`), which start from the sum of an edge's two
+planes (:func:`plane_sum`).  Integer
 bit manipulation is index arithmetic and is not counted (``docs/counting.md``);
 the octahedral map's floating-point work is, in :func:`counted_octahedral`.
 """
@@ -11,6 +12,7 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import plain
+from silcount.detectors.prefetch import prefetch_faces
 
 _M = np.uint64
 
@@ -47,6 +49,18 @@ def interleave2(x, y):  # pragma: no cover - compiled
 def interleave3(x, y, z):  # pragma: no cover - compiled
     """The 63-bit Z-order code of 21-bit cell indices ``x``, ``y``, ``z`` (uint64 scalars)."""
     return _spread3(x) | (_spread3(y) << _M(1)) | (_spread3(z) << _M(2))
+
+
+@njit(cache=True, inline="always")
+def plane_sum(plane, kf, i, end):  # pragma: no cover - compiled
+    """The two key faces' planes of edge ``i`` summed in float64 (``u1 + u2``, ``c1 + c2``), asking for the rows
+    of the edge :data:`.prefetch.ROWS_AHEAD` ahead (if before ``end``, the thread's run)."""
+    prefetch_faces(plane, kf, i, end)
+    a, b = kf[i, 0], kf[i, 1]
+    x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
+    y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])
+    z = np.float64(plane[a, 2]) + np.float64(plane[b, 2])
+    return x, y, z, np.float64(plane[a, 3]) + np.float64(plane[b, 3])
 
 
 @njit(cache=True)
