@@ -127,7 +127,7 @@ def test_the_literature_does_not_move_the_four():
     pred = predict.weighted(lit, UNIT, predict.scales_of(base))
     assert pred["scale"].tolist() == base["scale"].tolist()  # the four's scale, not refitted
     assert pred["ratio"].to_numpy() == pytest.approx(0.5)  # twice as slow as the fit predicts
-    summ = predict.literature_summary(pred)
+    summ = predict.per_detector(pred)
     assert set(summ["detector"]) == {"cones"} and summ["median_ratio"].to_numpy() == pytest.approx(0.5)
 
 
@@ -215,3 +215,18 @@ def test_report_without_a_corpus_folder_skips_the_corpus_section_saying_so(tmp_p
     assert written and all("corpus" not in p.relative_to(tmp_path).parts for p in written)
     if set(read_timings(committed_timings())["mesh"]) - set(timing.SERIES):  # the committed timings time corpus files
         assert "calibrate: corpus skipped" in capsys.readouterr().err
+
+
+def test_a_fit_across_the_algorithms_can_miss_one_algorithm():
+    """TA's time falling across its two meshes (2 us, then 1 us) while its tally grows 4x, VnV's proportional: the
+    shared fit predicts VnV exactly within its samples (R^2 = 1) and TA worse than TA's own mean (R^2 < 0),
+    while the R^2 over all four samples stays high (the gap between the algorithms)."""
+    ta = {"m1": 2e-6, "m2": 1e-6}
+    s = _samples(lambda r: ta[r["mesh"]] if r["detector"] == "ta" else 1e-9 * (r["true_add"] + 1))
+    pred = predict.weighted(s, UNIT)
+    within = predict.per_detector(pred).set_index(["model", "detector"])
+    assert within.loc[("true", "ta"), "r2"] < 0
+    summ = predict.summary(pred, predict.per_mesh(pred)).set_index("model")
+    assert summ.loc["true", "r2"] > within.loc[("true", "ta"), "r2"]
+    exact = predict.per_detector(predict.weighted(_samples(lambda r: 3e-9 * (r["true_add"] + 1)), UNIT))
+    assert exact["r2"].to_numpy() == pytest.approx(1.0)

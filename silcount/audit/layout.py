@@ -52,7 +52,8 @@ def _kinds(entries: list[dict], model: str) -> list[str]:
 
 def _detector_table(detectors: dict, model: str, markdown: bool) -> list[str]:
     kinds = _kinds(list(detectors.values()), model)
-    header = ["detector", "edges", "agrees", *kinds, "cycles", "printed cycles", "measured/printed", "time s"]
+    header = ["detector", "edges", "agrees", *kinds, "cycles", "printed cycles per light", "measured/printed per light",
+              "time s"]  # fmt: skip
     rows = []
     for key, d in detectors.items():
         printed = d["formula_printed"]
@@ -77,7 +78,7 @@ def _hierarchy_table(detectors: dict, lights: int, markdown: bool) -> list[str]:
     extra = sorted({k for h in tree.values() for k in h["build"] if k not in KINDS})
     kinds = [*KINDS, *extra]
     header = ["detector", "leaf/fan-out", "tree bytes", *kinds, "build cycles", "edges visited",
-              "saving per light", "break-even lights"]  # fmt: skip
+              "true ops saved per light", "break-even lights (true ops)"]  # fmt: skip
     rows = [
         [
             key,
@@ -171,11 +172,12 @@ def render_text(audit: dict, markdown: bool = False) -> str:
             "",
             *_hierarchy_table(audit["detectors"], n, markdown),
             "",
-            "edges visited: edges whose faces the query evaluated, over E (mean over the lights); saving per "
-            "light: the reference's true total minus the query's; break-even lights: how many lights before "
-            "build plus queries cost fewer true operations than the reference's queries (- when a query saves "
-            "nothing). Their time s includes the build wherever a call made it: once per mesh with the fast engine, "
-            "at every call with the naive one.",
+            "edges visited: edges whose faces the query evaluated, over E (mean over the lights); true ops saved per "
+            "light: the reference's true total minus the query's, in operations (not cycles); break-even lights: "
+            "how many lights before build plus queries cost fewer true operations than the reference's queries "
+            "(- when a query saves nothing; weighted by a cycle profile the break-even can differ). Their time s "
+            "includes the build wherever a call made it: once per mesh with the fast engine, at every call with "
+            "the naive one.",
         ]
     printed = [(k, d["formula_printed"]) for k, d in audit["detectors"].items() if d["formula_printed"]]
     if printed:

@@ -28,9 +28,9 @@ from silcount.errors import UnreadableInput
 from silcount.mesh.model import Mesh
 
 LARGE_FACES = 320
-"""The second fit keeps meshes with at least this many faces (icosphere2 up): below it the per-call
-numpy set-up of :func:`~silcount.detectors.plain_edge_ids` (facing flags, edge-id lookup, about
-0.1-0.2 ms) outweighs the loops, a fixed cost no per-operation weight can model."""
+"""The second fit keeps meshes with at least this many faces (icosphere2 up): below it a call's fixed
+cost (the numpy set-up of :func:`~silcount.detectors.plain_edge_ids`: facing flags, edge-id lookup),
+which no per-operation weight can model, is a large share of its time."""
 
 
 @dataclass
@@ -47,8 +47,10 @@ class Calibration:
     fps: pd.DataFrame
     literature_samples: pd.DataFrame  # gaussmap and cones, when the timings have them (else no rows)
     literature_predictions: pd.DataFrame  # their predictions with ``summary``'s scales
-    literature: pd.DataFrame  # per (model, profile, detector): predicted/measured ratios (predict.literature_summary)
+    literature: pd.DataFrame  # per (model, profile, detector): predicted/measured ratios (predict.per_detector)
     literature_meshes: pd.DataFrame  # per mesh: measured seconds of every timed detector, summed over the lights
+    within: pd.DataFrame  # the papers' four, each within its own samples with the shared fit (per_detector)
+    within_large: pd.DataFrame  # the same for the refit on meshes of at least LARGE_FACES faces
     left_out: tuple[str, ...] = ()  # timed meshes that load today with another face count, and why
 
 
@@ -89,11 +91,8 @@ def calibrate(
     lit_pred = predict.weighted(lit_samples, profiles, predict.scales_of(pred)) if lit else pred.iloc[:0]
     meshes_table = predict.per_mesh(pred)
     large = samples[samples["faces"] >= LARGE_FACES]
-    if len(large):
-        pred_large = predict.weighted(large, profiles)
-        summary_large = predict.summary(pred_large, predict.per_mesh(pred_large))
-    else:
-        summary_large = predict.summary(pred.iloc[:0], meshes_table.iloc[:0])
+    pred_large = predict.weighted(large, profiles) if len(large) else pred.iloc[:0]
+    summary_large = predict.summary(pred_large, predict.per_mesh(pred_large) if len(large) else meshes_table.iloc[:0])
     return Calibration(
         cpu_model,
         source,
@@ -105,8 +104,10 @@ def calibrate(
         fps.fps_table(),
         lit_samples,
         lit_pred,
-        predict.literature_summary(lit_pred),
+        predict.per_detector(lit_pred),
         measured_per_mesh(every) if lit else every.iloc[:0, :0],
+        predict.per_detector(pred),
+        predict.per_detector(pred_large),
     )
 
 

@@ -56,6 +56,8 @@ def to_json(cal: Calibration) -> str:
         "per_mesh": _records(cal.per_mesh),
         "fps": _records(cal.fps),
         "left_out": list(cal.left_out),
+        "within": _records(cal.within),
+        "within_large": _records(cal.within_large),
         "literature": {
             "detectors": sorted(set(cal.literature_samples["detector"]), key=TIMED.index),
             "samples": len(cal.literature_samples),
@@ -93,15 +95,29 @@ def to_markdown(cal: Calibration) -> str:
         "",
         f"## Meshes of at least {LARGE_FACES} faces only (refitted)",
         "",
-        "Below that size the per-call set-up of `plain_edge_ids` (numpy, about 0.1-0.2 ms) outweighs the loops.",
+        "Below that size a call's fixed cost (the numpy set-up of `plain_edge_ids`), which no per-operation weight "
+        "can model, is a large share of its time.",
         "",
         rounded(cal.summary_large).to_markdown(index=False),
+        "",
+        "Within each algorithm (see the next section), with this refit:",
+        "",
+        within_table(cal.within_large).to_markdown(index=False),
+        "",
+        "## Within each algorithm (the first fit, each algorithm's own samples)",
+        "",
+        "R^2 of log time over one algorithm's samples with the scale fitted on all four: a fit across the "
+        "algorithms can explain most of the spread of log time by the gaps between them and still predict one "
+        "algorithm's time from mesh to mesh poorly (negative: worse than that algorithm's own mean time).",
+        "",
+        within_table(cal.within).to_markdown(index=False),
         "",
         "## Per mesh",
         "",
         rounded(cal.per_mesh).to_markdown(index=False),
         "",
-        "## The papers' FPS against their own model (P IV 2.8 GHz, 2207 edges)",
+        "## The papers' FPS against their own model (the HSD paper's P IV 2.8 GHz and bunny, 2207 edges; the "
+        "EESD paper, whose TA, VnV and EESD rates these are, names no machine or mesh)",
         "",
         rounded(cal.fps).to_markdown(index=False),
         "",
@@ -110,6 +126,15 @@ def to_markdown(cal: Calibration) -> str:
         *_literature_lines(cal),
     ]
     return "\n".join(lines)
+
+
+def within_table(within: pd.DataFrame) -> pd.DataFrame:
+    """R^2 within each algorithm's samples, one row per (model, profile), one column per algorithm."""
+    if within.empty:
+        return pd.DataFrame(columns=["model", "profile"])
+    wide = within.pivot_table(index=["model", "profile"], columns="detector", values="r2", sort=False)
+    order = [d for d in TIMED if d in wide.columns]
+    return rounded(wide[order].rename(columns=lambda d: f"r2 {d}").reset_index())
 
 
 def _literature_lines(cal: Calibration) -> list[str]:

@@ -124,11 +124,13 @@ def scales_of(pred: pd.DataFrame) -> dict[tuple[str, str], float]:
     return {(str(m), str(p)): float(v) for m, p, v in zip(first["model"], first["profile"], first["scale"])}
 
 
-def literature_summary(pred: pd.DataFrame) -> pd.DataFrame:
-    """One row per (model, profile, detector) of samples predicted with another fit's scale.
+def per_detector(pred: pd.DataFrame) -> pd.DataFrame:
+    """One row per (model, profile, detector): how well a fit's scale predicts that detector's own samples.
 
-    ``r2`` is of log time with that scale (it may be negative); ``median_ratio``, ``worst_ratio`` as in
-    :func:`summary`.
+    ``r2`` is of log time within the detector's samples with the given scale (it may be negative: worse than
+    the detector's own mean); ``median_ratio``, ``worst_ratio`` as in :func:`summary`.  A fit across the
+    algorithms can explain most of the spread between them while predicting one algorithm from mesh to mesh
+    poorly: this is the second question.
     """
     rows = []
     for (model, profile, det), sub in pred.groupby(["model", "profile", "detector"], sort=False):
