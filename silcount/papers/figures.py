@@ -132,7 +132,7 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
             totals = [sum(r.tally[model].values()) for r in series]
             b = sweep.fit_exponent(faces, totals)
             faces_all += faces
-            by_det[det] = totals
+            by_det[det] = [float(t) for t in totals]
             ax.plot(
                 faces,
                 totals,
