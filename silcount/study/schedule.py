@@ -131,6 +131,7 @@ def _local(
     items: list[Item], todo: list[int], settings: Settings, scheduler: str, workers: int, finish: Callable
 ) -> None:
     import dask
+    from dask import multiprocessing, threaded
     from dask.callbacks import Callback
 
     # ``todo`` is largest first; Dask starts independent tasks in descending name order
@@ -151,7 +152,10 @@ def _local(
     pool = process_pool(workers) if scheduler == "processes" else None  # threads: Dask's own
     try:
         with Collect():
-            dask.compute(*tasks, scheduler=scheduler, num_workers=workers, pool=pool, chunksize=1)  # one at a time
+            # the scheduler's function itself, not its name: a name makes Dask import distributed (0.3 s) to
+            # look for a default client, which a named local scheduler ignores anyway
+            get = multiprocessing.get if scheduler == "processes" else threaded.get
+            dask.compute(*tasks, scheduler=get, num_workers=workers, pool=pool, chunksize=1)  # one at a time
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)  # after an error, queued units do not run
