@@ -386,3 +386,25 @@ def test_the_sort_is_stable_with_or_without_room(n, key_bits, seed, extra):
     assert np.array_equal(got, want)
     assert not np.shares_memory(got, room)
     assert np.array_equal(hierarchy_build.sorted_positions(keys.copy(), key_bits, bits), want)
+
+
+@pytest.mark.parametrize("faces", [[[0, 1, 2]], [[0, 1, 2], [1, 3, 2]], [[0, 1, 2], [1, 0, 3], [0, 1, 4]]])
+def test_trees_with_few_or_no_two_faced_edges(faces):
+    """A lone triangle (no two-faced edge: an empty pair tree), a two-triangle strip, three faces on one edge:
+    both engines build the same tree and answer the reference's edges."""
+    from silcount.counting.arithmetic import OpCounter
+    from silcount.detectors.hierarchy_naive import build_naive
+
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.3], [0.5, 0.5, 1]], dtype=float)
+    mesh = silcount.from_polygons(v, faces, name="few")
+    for scheme in (gaussmap.SCHEME, cones.SCHEME):
+        fast = hierarchy_build.build_fast(mesh, scheme, 8, 4)
+        naive = build_naive(mesh, scheme, 8, 4, OpCounter())
+        for name, value in vars(fast).items():
+            if isinstance(value, np.ndarray):
+                assert np.array_equal(value, getattr(naive, name), equal_nan=value.dtype.kind == "f"), name
+    for light in (silcount.PointLight((0.3, 0.2, 2.0)), silcount.DirectionalLight((0.1, 0.2, 1.0))):
+        want = np.sort(silhouette_edge_ids(mesh, light))
+        for module in (gaussmap, cones):
+            for engine in ("fast", "naive"):
+                assert np.array_equal(np.sort(module.detect(mesh, light, "intended", engine).edge_ids), want)

@@ -132,7 +132,7 @@ def within_table(within: pd.DataFrame) -> pd.DataFrame:
     """R^2 within each algorithm's samples, one row per (model, profile), one column per algorithm."""
     if within.empty:
         return pd.DataFrame(columns=["model", "profile"])
-    wide = within.pivot_table(index=["model", "profile"], columns="detector", values="r2", sort=False)
+    wide = within.pivot_table(index=["model", "profile"], columns="detector", values="r2", sort=False, dropna=False)
     order = [d for d in TIMED if d in wide.columns]
     return rounded(wide[order].rename(columns=lambda d: f"r2 {d}").reset_index())
 

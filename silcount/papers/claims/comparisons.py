@@ -255,6 +255,8 @@ def joint_ratio(c: dict, source: str) -> Claim:
     parts = [cycle_ratio({**c, **sub, "id": c["id"], "quote": c["quote"]}, source) for sub in c["ratios"]]
     readings = []
     by_name = [{r.reading: r for r in p.readings} for p in parts[1:]]
+    if any(set(named) != {r.reading for r in parts[0].readings} for named in by_name):
+        raise ValueError(f"{c['id']}: the sentence's ratios are not read alike")
     for r in parts[0].readings:
         others = [named[r.reading] for named in by_name]  # one reading of the sentence for all its ratios
         readings.append(
