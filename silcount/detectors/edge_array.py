@@ -88,9 +88,14 @@ MAX_SLOTS = 2**31 - 1
 """S's slots and directed keys are int32 in the replay: a mesh beyond it (a billion edges) is refused."""
 
 
-def _check_size(n_keys: int, side_key: np.ndarray, initial: np.ndarray) -> None:
-    if max(int(n_keys), int(side_key.size) + int(initial.size)) > MAX_SLOTS:
+def _replay_input(start, side_key, n_keys: int, initial) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The replay's CSR starts, side keys and initial keys as contiguous int64 (no initial keys: empty),
+    refused by name beyond :data:`MAX_SLOTS`."""
+    init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
+    side_key = np.ascontiguousarray(side_key, dtype=np.int64)
+    if max(int(n_keys), int(side_key.size) + int(init.size)) > MAX_SLOTS:
         raise ValueError(f"S's replay holds at most {MAX_SLOTS:,} slots and keys; this mesh needs more")
+    return np.ascontiguousarray(start, dtype=np.int64), side_key, init
 
 
 @njit(cache=True, inline="always")
@@ -194,14 +199,9 @@ def replay(
     ``start`` (P+1,) CSR offsets into ``side_key`` (directed keys ``2*edge+dir``);
     ``initial`` the keys S holds before the loop (the ``literal`` TA start).
     """
-    init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
-    _check_size(n_keys, side_key, init)
+    start, side_key, init = _replay_input(start, side_key, n_keys, initial)
     live, searched, examined, deleted, added, shifted = _replay(
-        np.ascontiguousarray(start, dtype=np.int64),
-        np.ascontiguousarray(side_key, dtype=np.int64),
-        np.ascontiguousarray(poly_facing, dtype=np.bool_),
-        int(n_keys),
-        init,
+        start, side_key, np.ascontiguousarray(poly_facing, dtype=np.bool_), int(n_keys), init
     )
     return Replay(live, int(searched), int(examined), int(deleted), int(added), int(shifted))
 
@@ -227,14 +227,8 @@ def replay_many(
     """:func:`replay` for each light, the polygons' facing flags computed from their representative faces'
     ``p0`` and normals ``nrm`` as :func:`.adjacency.facing_flags` computes them: (flags, ties, Replay) per
     light, the lights spread over numba's thread count of threads (each light's replay is sequential)."""
-    init = np.zeros(0, dtype=np.int64) if initial is None else np.ascontiguousarray(initial, dtype=np.int64)
-    _check_size(n_keys, side_key, init)
-    args = (
-        np.ascontiguousarray(start, dtype=np.int64),
-        np.ascontiguousarray(side_key, dtype=np.int64),
-        np.ascontiguousarray(p0, dtype=np.float64),
-        np.ascontiguousarray(nrm, dtype=np.float64),
-    )
+    start, side_key, init = _replay_input(start, side_key, n_keys, initial)
+    args = (start, side_key, np.ascontiguousarray(p0, dtype=np.float64), np.ascontiguousarray(nrm, dtype=np.float64))
 
     def one(light: Light) -> tuple[np.ndarray, int, Replay]:
         src = np.asarray(light.vector, dtype=np.float64)

@@ -142,6 +142,7 @@ from silcount.detectors.eesd_rays import (
     own_blocked,
     plain_edge_ids,
     ray_data,
+    rays_through,
     tracer,
 )
 from silcount.detectors.onplane import zeros_per_point
@@ -236,10 +237,7 @@ def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
         hits = on_threads(lambda j: lines_any_hit(points[j], light_values(lights[j]), tris), range(len(lights)))
     else:
         rays = tracer(mesh)
-        sources = [light_values(light) for light in lights]
-        hits = [
-            rays.any_hit(np.broadcast_to(L, p.shape), p - L, 0.0, np.inf) for L, p in zip(sources, points, strict=True)
-        ]
+        hits = [rays.any_hit(*rays_through(p, light)) for light, p in zip(lights, points, strict=True)]
     out = []
     for light, cand, hit in zip(lights, cands, hits, strict=True):
         ids = cand[~hit]

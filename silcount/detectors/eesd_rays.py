@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit, prange
 
 from silcount.detectors.eesd_counted import EPS
-from silcount.mesh.lights import DirectionalLight, Light
+from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer, moller_trumbore
 
@@ -66,7 +66,7 @@ _ALL = np.zeros(0, dtype=np.int64)  # :func:`_outward`'s "every edge"
 
 def light_values(light: Light) -> np.ndarray:
     """The light's direction or position, as the counted routines read it."""
-    return np.asarray(light.direction if isinstance(light, DirectionalLight) else light.position, dtype=np.float64)
+    return np.asarray(light.vector, dtype=np.float64)
 
 
 @njit(cache=True, error_model="numpy", inline="always")  # an end-on edge (w = 0): inf or NaN, as numpy's
@@ -141,11 +141,17 @@ def outward_points_and_rays(mesh: Mesh, light: Light):
     Returns ``P`` (E, 3), ray origins (E, 3), directions (E, 3), and scalar ``t_min``, ``t_max``.
     """
     L = light_values(light)
-    directional = isinstance(light, DirectionalLight)
-    p = _outward(mesh.vertices, mesh.edges, ray_data(mesh)["apex"], _ALL, L, directional, EPS)
-    if directional:
-        return p, p, np.broadcast_to(L, p.shape), -np.inf, np.inf
-    return p, np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
+    p = _outward(mesh.vertices, mesh.edges, ray_data(mesh)["apex"], _ALL, L, light.is_directional, EPS)
+    return (p, *rays_through(p, light))
+
+
+def rays_through(p: np.ndarray, light: Light):
+    """``origins, directions, t_min, t_max`` of the rays through points ``p`` (k, 3): a directional light's
+    line through each point, ``t`` unbounded; a point light's ray from the light, ``t > 0``."""
+    L = light_values(light)
+    if light.is_directional:
+        return p, np.broadcast_to(L, p.shape), -np.inf, np.inf
+    return np.broadcast_to(L, p.shape), p - L, 0.0, np.inf
 
 
 def outward_points_of(mesh: Mesh, light: Light, which: np.ndarray) -> np.ndarray:
@@ -251,6 +257,7 @@ __all__ = [
     "light_values",
     "outward_points_and_rays",
     "outward_points_of",
+    "rays_through",
     "own_blocked",
     "face_planes",
     "plain_edge_ids",

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import plain
-from silcount.detectors.prefetch import prefetch_faces
+from silcount.detectors.prefetch import ROWS_AHEAD, prefetch
 
 _M = np.uint64
 
@@ -55,7 +55,9 @@ def interleave3(x, y, z):  # pragma: no cover - compiled
 def plane_sum(plane, kf, i, end):  # pragma: no cover - compiled
     """The two key faces' planes of edge ``i`` summed in float64 (``u1 + u2``, ``c1 + c2``), asking for the rows
     of the edge :data:`.prefetch.ROWS_AHEAD` ahead (if before ``end``, the thread's run)."""
-    prefetch_faces(plane, kf, i, end)
+    if i + ROWS_AHEAD < end:
+        prefetch(plane, np.int64(kf[i + ROWS_AHEAD, 0]))
+        prefetch(plane, np.int64(kf[i + ROWS_AHEAD, 1]))
     a, b = kf[i, 0], kf[i, 1]
     x = np.float64(plane[a, 0]) + np.float64(plane[b, 0])
     y = np.float64(plane[a, 1]) + np.float64(plane[b, 1])

@@ -1,16 +1,15 @@
 """``prefetch``: ask the processor for a row's memory before it is read (``llvm.prefetch``).
 
 Used by the hierarchies' compiled query (:mod:`.hierarchy_walk`) and build
-(:mod:`.hierarchy_build`, the schemes' keys in :mod:`.gaussmap` and
-:mod:`.cones`), whose loops read rows of large arrays in an order the processor
-cannot predict.  A prefetch changes no value, only when memory arrives.
+(:mod:`.hierarchy_build`, and the schemes' keys through :func:`.morton.plane_sum`),
+whose loops read rows of large arrays in an order the processor cannot predict.  A prefetch
+changes no value, only when memory arrives.
 """
 
 from __future__ import annotations
 
-import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
@@ -37,13 +36,4 @@ def prefetch(typingctx, arr, row):  # pragma: no cover - compiled
     return sig, codegen
 
 
-@njit(cache=True, inline="always")
-def prefetch_faces(plane, kf, i, end):  # pragma: no cover - compiled
-    """Ask for the ``plane`` rows of the faces ``kf[i + ROWS_AHEAD]`` (a row of two face ids), if before ``end``."""
-    j = i + ROWS_AHEAD
-    if j < end:
-        prefetch(plane, np.int64(kf[j, 0]))
-        prefetch(plane, np.int64(kf[j, 1]))
-
-
-__all__ = ["prefetch", "prefetch_faces", "ROWS_AHEAD"]
+__all__ = ["prefetch", "ROWS_AHEAD"]
