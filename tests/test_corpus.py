@@ -22,12 +22,13 @@ from silcount.detectors.adjacency import silhouette_edge_ids
 from silcount.mesh.lights import DirectionalLight, PointLight
 from silcount.mesh.model import from_polygons
 from silcount.mesh.shapes import icosphere, plane, quad_cube
+from silcount.mesh.stats import mesh_statistics
 from silcount.study import corpus, find_files
 from silcount.study import schedule as schedule_mod
 from silcount.study.fits import power_fit
 from silcount.study.subdivide import faces_after, subdivide
 from silcount.study.tables import rows_frame
-from silcount.study.work import Settings, mesh_lights, row_columns, shape_kind
+from silcount.study.work import Settings, mesh_lights, mesh_record, row_columns, shape_kind
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "schemas" / "corpus.schema.json"
@@ -85,6 +86,21 @@ def test_shape_kinds():
     assert shape_kind(plane()) == "flat"
     bent = from_polygons([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 1)], [[0, 1, 2], [1, 3, 2]])
     assert shape_kind(bent) == "open"
+
+
+@pytest.mark.parametrize(
+    ("mesh", "polygons"), [(icosphere(1), 80), (plane(), 1), (quad_cube(), 6)], ids=["icosphere", "plane", "quad_cube"]
+)
+def test_mesh_records_keep_the_audits_statistics(mesh, polygons):
+    stats = mesh_statistics(mesh)
+    record = mesh_record(mesh)
+    for key in ("vertices", "faces", "edges", "boundary_edges", "nonmanifold_edges", "mean_sides"):
+        assert record[key] == stats[key] and type(record[key]) is type(stats[key]), key
+    assert record["closed"] is bool(stats["closed"])
+    assert record["coplanar_polygons"] == stats["coplanar"]["polygons"]
+    assert record["merge_ratio"] == stats["faces"] / stats["coplanar"]["polygons"]
+    # by hand: no two of the icosphere's 80 faces are coplanar; the flat plane is one polygon; the cube six
+    assert record["coplanar_polygons"] == polygons
 
 
 # ---- lights ----------------------------------------------------------------------------------

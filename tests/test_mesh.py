@@ -2,8 +2,11 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import silcount
+from silcount.errors import InvalidMesh
 from silcount.mesh.model import from_polygons
 
 
@@ -34,6 +37,29 @@ def test_collapsed_face_dropped():
     v = [[0, 0, 0], [1, 0, 0], [1, 0, 0], [0, 1, 0]]
     m = from_polygons(v, [[0, 1, 2], [0, 1, 3]])
     assert m.n_faces == 1 and m.dropped_faces == 1
+
+
+def test_polygons_repeating_a_corner_are_dropped_whatever_its_position():
+    # six distinct points; after welding, vertex 6 is vertex 0 again
+    v = [[0, 0, 0], [1, 0, 0], [2, 1, 0], [1, 2, 0], [0, 2, 0], [-1, 1, 0], [0, 0, 0]]
+    faces = [[0, 1, 2, 3], [0, 1, 0, 2], [1, 2, 3, 4, 1, 5], [0, 1, 2, 3, 4], [0, 1, 2, 3, 6], [2, 3, 6, 4, 5]]
+    m = from_polygons(v, faces)
+    # by hand: the second and third repeat a corner that is not their neighbour, the fifth (6 = 0) wraps
+    # around to its first corner, the sixth repeats none
+    assert m.dropped_faces == 3
+    assert m.n_faces == 3
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(st.integers(0, 5), min_size=3, max_size=7), min_size=1, max_size=12))
+def test_dropped_faces_are_those_with_a_repeated_corner(faces):
+    v = np.arange(18, dtype=float).reshape(6, 3) ** 1.5  # six distinct points
+    expected = sum(len(set(f)) != len(f) for f in faces)
+    if expected == len(faces):
+        with pytest.raises(InvalidMesh):
+            from_polygons(v, faces)
+        return
+    assert from_polygons(v, faces).dropped_faces == expected
 
 
 def test_inconsistent_winding_detected():

@@ -272,11 +272,13 @@ def from_polygons(vertices, faces, name: str = "mesh", weld_tolerance: float = 0
     collapsed_side = flat == flat[nxt]
     collapsed = np.zeros(sizes.size, dtype=bool)
     collapsed[face_of[collapsed_side]] = True
-    if sizes.max() > 3:  # a polygon may repeat a non-adjacent corner too
-        for f in np.flatnonzero(sizes > 3):
-            poly = flat[start[f] : start[f + 1]]
-            if np.unique(poly).size != poly.size:
-                collapsed[f] = True
+    if sizes.max() > 3:  # a polygon may repeat a non-adjacent corner too: equal neighbours once sorted by face
+        big = (sizes > 3)[face_of]
+        face_big, corner_big = face_of[big], flat[big]
+        order = np.lexsort((corner_big, face_big))
+        face_big, corner_big = face_big[order], corner_big[order]
+        repeated = (face_big[1:] == face_big[:-1]) & (corner_big[1:] == corner_big[:-1])
+        collapsed[face_big[1:][repeated]] = True
     if collapsed.all():
         raise InvalidMesh(f"all {sizes.size} faces collapse to degenerate faces after welding")
     keep_corner = ~collapsed[face_of]

@@ -83,7 +83,7 @@ from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
-from silcount.mesh.stats import mesh_statistics
+from silcount.mesh.stats import coplanar_polygons
 
 LIGHT_DISTANCE = 3.0
 LIGHT_KINDS = ("directional", "point", "both")
@@ -151,20 +151,21 @@ def shape_kind(mesh: Mesh) -> str:
 
 
 def mesh_record(mesh: Mesh) -> dict:
-    """The per-mesh statistics the corpus reports, from :func:`silcount.mesh.stats.mesh_statistics`."""
-    stats = mesh_statistics(mesh)
-    polys = stats["coplanar"]["polygons"]
+    """The per-mesh statistics the corpus reports: those of :func:`silcount.mesh.stats.mesh_statistics` it
+    keeps (the same values), computed alone; the audit's others (components, near-duplicate vertices,
+    duplicate faces, areas) are not in the corpus's tables."""
+    polys = coplanar_polygons(mesh)["polygons"]
     return {
-        "vertices": stats["vertices"],
-        "faces": stats["faces"],
-        "edges": stats["edges"],
-        "closed": bool(stats["closed"]),
+        "vertices": mesh.n_vertices,
+        "faces": mesh.n_faces,
+        "edges": mesh.n_edges,
+        "closed": bool(mesh.is_closed),
         "kind": shape_kind(mesh),
-        "boundary_edges": stats["boundary_edges"],
-        "nonmanifold_edges": stats["nonmanifold_edges"],
-        "mean_sides": float(stats["mean_sides"]),
+        "boundary_edges": int(mesh.boundary_edges.size),
+        "nonmanifold_edges": int(mesh.nonmanifold_edges.size),
+        "mean_sides": float(mesh.mean_sides),
         "coplanar_polygons": int(polys),
-        "merge_ratio": stats["faces"] / polys,
+        "merge_ratio": mesh.n_faces / polys,
     }
 
 
