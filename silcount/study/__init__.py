@@ -20,7 +20,9 @@ Modules: :mod:`.work` (one file at one level, on a worker), :mod:`.subdivide`,
 from __future__ import annotations
 
 import hashlib
+import importlib
 import os
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -137,6 +139,9 @@ def corpus(
             data, error = b"", f"{path}: cannot read: {exc.strerror or exc}"
         sha = hashlib.sha256(data).hexdigest()
         items += [Item(label, data, sha, level, error) for level in levels]
+    # the tables' first use of pandas imports it (0.2-0.3 s): done on a thread while the workers start and run,
+    # not after the last unit; the tables below import it again (a dictionary look-up, or a wait for this import)
+    threading.Thread(target=importlib.import_module, args=("pandas",), name="import-pandas", daemon=True).start()
     results = run_items(items, settings, scheduler, workers, Cache(folder), quiet)
     labels = [it.label for it in items]
     rows = rows_frame(labels, results)
