@@ -243,7 +243,11 @@ def test_the_intersection_reading_is_the_one_the_tables_charge(by_key):
     for name in entry["kernels"]:
         per_test = primitives.kernel_cost(name).get("mul", 0)
         fits[primitives.KERNELS[name][1]] = all(6 * n * (3 + n * per_test) == v for (n, _), v in cells_mul.items())
-    assert fits == {"aR_x+bR_y+cR_z+d = 0 for a point R": True, "does the ray x0 + t d, t > 0, cross the plane": False}
+    assert fits == {
+        "aR_x+bR_y+cR_z+d = 0 for a point R": True,
+        "does the ray x0 + t d, t > 0, cross the plane": False,
+        primitives.KERNELS["ray_triangle"][1]: False,  # 27 Mult a test: 6n (3 + 27n) = 16380 at n = 10
+    }
     c = by_key["eesd-intersection"]
     assert c.verdict == claims.AMBIGUOUS and "plane-equation" in c.table_reading and "1980" in c.table_reading
     assert "4380" in c.table_reading  # 6n (3 + 7n) at n = 10
@@ -303,6 +307,9 @@ FOLLOWS = {
     "eesd2012-eesd line 1 upper bound": "eesd2012-eesd annotations -> line 1",
     "eesd-visibility": "eesd-normal",  # the sum of the normal, light-ray, dot and sign costs
     "eesd-gorman-ratio": "eesd-mesh-size",  # V/F = 2, E/V = 3: V = 2n, E = 6n again
+    "eesd-vnv-visibility": "eesd-normal",  # VnV's copy of the visibility annotation
+    "hsd-visibility": "hsd-normal",  # the HSD paper's own sum of the same costs
+    "eesd-step4": "eesd-pseudocode",  # the Sec. 3.3 loops written as a sum
 }
 
 
@@ -475,21 +482,28 @@ def test_comparisons_carry_the_readings_of_the_primitives_they_charge(by_key):
     e, tests = 600, 60_000
     weights = {"M": 4, "A": 2, "C": 3, "R": 1, "W": 2}
 
-    def eesd(mul, add):
-        counts = {"M": 3 * e + mul * tests, "A": 6 * e + (add + 1) * tests, "C": tests, "R": 2 * e, "W": 2 * e}
+    def eesd(mul, add, cmp=1):
+        counts = {"M": 3 * e + mul * tests, "A": 6 * e + (add + 1) * tests, "C": cmp * tests, "R": 2 * e, "W": 2 * e}
         return sum(weights[k] * v for k, v in counts.items())
 
-    plane, ray = eesd(3, 3), eesd(7, 5)
-    assert (plane, ray) == (1_398_000, 2_598_000)
+    # a test of the face itself (Intersection(R, f)): Moller-Trumbore, 27 M + 24 A + 6 C (and a division)
+    plane, ray, face = eesd(3, 3), eesd(7, 5), eesd(27, 24, 6)
+    assert (plane, ray, face) == (1_398_000, 2_598_000, 10_578_000)
     c = by_key["eesd-cheaper-than-ta n=100 m=10 cycles"]
-    assert c.verdict == AMBIGUOUS and len(c.readings) == 4
+    assert c.verdict == AMBIGUOUS and len(c.readings) == 6
     for r in c.readings:
-        mine = ray if "ray crossing" in r.reading else plane
+        mine = ray if "ray crossing" in r.reading else face if "meeting the face" in r.reading else plane
         ta = 2_415_700 if "1 Mult" in r.reading else 2_415_700 - 4 * 100 * 10  # m n inverses, 4 cycles each
         assert f"EESD {mine} vs TA {ta}" in r.outcome and r.holds == (mine < ta), r
     assert "Table" in c.table_reading and "1980" in c.table_reading
-    # VnV is dearer under every reading; HSD against TA shares one inverse reading, never a mixed pair
-    assert by_key["eesd-cheaper-than-vnv n=100 m=10 cycles"].verdict == "HOLDS"
+    # VnV (by hand: 6n (n (10M + 9A + 1C + 8R) + 1C + 1R + 1W) at n = 100: 4,143,600 cycles) is dearer than EESD
+    # with either plane test and cheaper than a test of the face; HSD against TA shares one inverse reading
+    vnv = by_key["eesd-cheaper-than-vnv n=100 m=10 cycles"]
+    assert 600 * (100 * (10 * 4 + 9 * 2 + 3 + 8) + 3 + 1 + 2) == 4_143_600
+    assert vnv.verdict == AMBIGUOUS
+    for r in vnv.readings:
+        mine = ray if "ray crossing" in r.reading else face if "meeting the face" in r.reading else plane
+        assert f"EESD {mine} vs VnV 4143600" in r.outcome and r.holds == (mine < 4_143_600), r
     for r in by_key["hsd-cheaper-than-ta n=10 m=5 raw"].readings:
         assert r.reading.count("the edge inverse as") == 1
 
@@ -509,3 +523,89 @@ def test_a_truncated_volume_keeps_the_shadows_of_receivers_before_the_clipping_p
     c = by_key["stencil-truncated-volume"]
     assert [r.holds for r in c.readings] == [True, True, False] and "beyond" in c.readings[2].reading
     assert c.verdict == AMBIGUOUS and "Fig. 7" in c.table_reading
+
+
+def _hsd_figure_cycles(n: int, m: int, sides: int, inverse_mult: int = 1) -> tuple[int, int]:
+    """TA's and HSD's cycles by hand from the HSD paper's per-face annotations (Sec. VI): f_n = n faces, e_n = 6n,
+    f_n (8A + 10M + 1C + 8R + k (e_n C + e_n R + 1M + 1R + 2W)) with k = m (TA) or ``sides`` (HSD); weights M 4,
+    A 2, C 3, R 1, W 2; the inverse's 1M per side counted ``inverse_mult`` times."""
+
+    def total(k: int) -> int:
+        e = 6 * n
+        per_face = {"A": 8, "M": 10 + k * inverse_mult, "C": 1 + k * e, "R": 8 + k * (e + 1), "W": 2 * k}
+        return n * sum({"M": 4, "A": 2, "C": 3, "R": 1, "W": 2}[kind] * v for kind, v in per_face.items())
+
+    return total(m), total(sides)
+
+
+def test_hsd_better_result_between_the_figures_is_read_both_ways(by_key):
+    # HSD's sides "decreased by 1" (m - 1) or "to 1" (the printed sum): by hand, TA / HSD at Fig. 5 and Fig. 6
+    ta5, to1_5 = _hsd_figure_cycles(10, 5, 1)
+    ta6, to1_6 = _hsd_figure_cycles(100, 10, 1)
+    _, by1_5 = _hsd_figure_cycles(10, 5, 4)
+    _, by1_6 = _hsd_figure_cycles(100, 10, 9)
+    assert (ta5, to1_5, ta6, to1_6, by1_5, by1_6) == (13120, 3160, 2415700, 247600, 10630, 2174800)
+    c = by_key["hsd-fewer-with-faces"]
+    assert c.verdict == AMBIGUOUS
+    grows = [r for r in c.readings if "lead grows" in r.reading and "1 Mult" in r.reading]
+    assert len(grows) == 2
+    for r in grows:
+        to_one = "decreased to 1" in r.reading
+        a, b = (ta5 / to1_5, ta6 / to1_6) if to_one else (ta5 / by1_5, ta6 / by1_6)
+        assert f"TA / HSD {a:.3f} at (n=10, m=5) -> {b:.3f} at (n=100, m=10)" in r.outcome
+        assert r.holds == to_one  # 4.152 -> 9.756 grows; 1.234 -> 1.111 shrinks
+    assert all(r.holds for r in c.readings if r.reading.startswith("m = "))  # HSD fewest as n grows, any m
+
+
+def test_hsd_faster_as_the_sides_grow_only_against_ta_and_only_with_one_side(by_key):
+    c = by_key["hsd-faster-with-sides"]
+    assert c.verdict == AMBIGUOUS
+    own = [r for r in c.readings if "own cycles fall" in r.reading]
+    assert own and not any(r.holds for r in own)  # HSD's cost never falls with m
+    _, by1_m5 = _hsd_figure_cycles(100, 5, 4)
+    _, by1_m10 = _hsd_figure_cycles(100, 10, 9)
+    assert (by1_m5, by1_m10) == (970300, 2174800)
+    assert any(f"HSD {by1_m5} at m = 5, {by1_m10} at m = 10" in r.outcome for r in own)
+    holding = {r.reading.split(",")[0] for r in c.readings if r.holds}
+    assert holding == {"HSD's lead over TA grows"}
+    assert all("decreased to 1" in r.reading for r in c.readings if r.holds)
+
+
+def test_hsd_restates_the_primitives_the_eesd_paper_is_judged_on(by_key):
+    for hsd, eesd in [("hsd-normal", "eesd-normal"), ("hsd-light-ray", "eesd-light-ray"), ("hsd-dot", "eesd-dot"),
+                      ("hsd-sign", "eesd-sign"), ("hsd-visibility", "eesd-visibility"),
+                      ("hsd-inverse", "eesd-inverse")]:  # fmt: skip
+        assert by_key[hsd].verdict == by_key[eesd].verdict, hsd
+    assert by_key["hsd-normal"].verdict == FAILS  # 9A + 6M from the corners, 3A + 6M from edges, none stored
+    assert by_key["hsd-visibility"].follows_from == "hsd-normal"
+    # the figures' points: 2E = mF with E = 6n, F = n: 120 against 50, 1200 against 1000
+    assert "2E = 120, mF = 50" in by_key["hsd-figure-points"].rederived
+    assert by_key["hsd-figure-points"].verdict == FAILS and by_key["hsd-n-meaning"].verdict == FAILS
+    # TA: the pseudo-code's empty S works, the prose's S of every edge does not (as EESD's prose)
+    assert by_key["hsd-ta-pseudocode"].verdict == "HOLDS" and by_key["hsd-ta-prose-start"].verdict == FAILS
+
+
+def test_culling_the_faces_turned_from_the_light_culls_faces_the_eye_sees(by_key):
+    # by hand: a cube lit from the (+, +, +) octant has its +x, +y, +z faces lit; an eye in the opposite octant
+    # sees the -x, -y, -z faces, every one of them turned from the light
+    c = by_key["hsd-cull-away-from-light"]
+    assert c.verdict == FAILS
+    assert "quad_cube, eye opposite the light: 3 of 3 faces turned to the eye are culled" in c.rederived
+    assert "quad_cube, eye at the light: 0 of 3" in c.rederived
+
+
+def test_extending_an_edge_and_the_ray_to_its_end_have_several_computations(by_key):
+    assert by_key["eesd-extend"].verdict == AMBIGUOUS  # 3A given the offset; 6A + 3M along the edge
+    assert [r.outcome for r in by_key["eesd-extend"].readings] == ["executed: 3A", "executed: 6A + 3M"]
+    ray = by_key["eesd-ray-to-point"]
+    assert ray.verdict == AMBIGUOUS and [r.holds for r in ray.readings] == [False, True, False]
+    assert "1980" in ray.table_reading  # e_n (3 + 3 f_n) Mult at n = 10: the ray's 3 Mult per edge
+
+
+def test_the_eesd_pseudocode_and_its_zfail_are_judged(by_key):
+    assert by_key["eesd-pseudocode"].verdict == FAILS
+    assert by_key["eesd-step4"].follows_from == "eesd-pseudocode"
+    z = by_key["eesd-zfail-like-zpass"]
+    assert z.verdict == FAILS and "no caps" in z.measured and "capped volumes 0.0" in z.measured
+    for key in ("eesd-step2-lit-pass", "stencil-step2-lit-pass"):
+        assert by_key[key].verdict == FAILS

@@ -130,9 +130,25 @@ def test_truncated_volume_is_exact_when_every_receiver_is_on_the_lights_side():
     assert c.far == 0 and c.fraction <= 0.005, c.describe()
 
 
+@pytest.mark.parametrize("name", ["ledge", "overlapping_shadows"])
+def test_zfail_without_caps_miscounts_exactly_the_casters_own_faces(name):
+    # the EESD paper's z-fail: z-pass's volume (the silhouette's quads) with the stencil steps changed.  A
+    # point on a caster is counted by the caps behind it: the dark cap (its unlit faces at infinity) for an unlit
+    # face, the light cap (its lit faces) for a lit one; without them the count is off by one there and only there
+    sc, t = scene(name), truth(name)
+    capped, sides = render_stencil(sc, "zfail"), render_stencil(sc, "zfail", volume="sides")
+    differ = t.coverage & (capped.stencil != sides.stencil)
+    casters = {k for k, o in enumerate(sc.objects) if o.casts_shadow and o.name.startswith("box")}
+    assert differ.any()
+    assert set(sc.triangle_object[t.tri_id[differ]].tolist()) <= casters
+    assert np.all(np.abs(capped.stencil[differ] - sides.stencil[differ]) == 1)
+    assert compare_masks(capped.mask, t.mask, t.coverage).far == 0
+    assert compare_masks(sides.mask, t.mask, t.coverage).mismatched > 0
+
+
 def test_stencil_step_evidence_is_deterministic_and_measures_each_literal_step():
     ev = stencil_step_evidence()
-    assert set(ev) == {"shadow_test_parity", "volume_truncated", "planar_literal"}
+    assert set(ev) == {"shadow_test_parity", "volume_truncated", "zfail_uncapped", "planar_literal"}
     for value in ev.values():
         assert set(value) == {"scenes", "summary"} and isinstance(value["summary"], str)
         assert set(value["scenes"]) == set(BUILTIN)
@@ -143,6 +159,7 @@ def test_stencil_step_evidence_is_deterministic_and_measures_each_literal_step()
     assert ev["shadow_test_parity"]["scenes"]["ledge"]["far_mismatches"] == 0  # one volume: stencil <= 1
     assert ev["volume_truncated"]["scenes"]["ledge"]["far_mismatches"] > 0
     assert ev["volume_truncated"]["scenes"]["overlapping_shadows"]["far_mismatches"] == 0
+    assert all(m["far_mismatches"] > 0 for m in ev["zfail_uncapped"]["scenes"].values())
     assert all(m["far_mismatches"] > 0 for m in ev["planar_literal"]["scenes"].values())
     assert json.loads(json.dumps(ev)) == stencil_step_evidence()
 
@@ -186,8 +203,9 @@ def test_render_report_summary_follows_its_schema(tmp_path, monkeypatch):
         "zpass-parity",
         "zpass-truncated",
         "zfail-truncated",
+        "zfail-uncapped",
     }
-    assert "The stencil paper's literal steps" in (tmp_path / "renders" / "summary.md").read_text()
+    assert "The papers' literal steps" in (tmp_path / "renders" / "summary.md").read_text()
     assert all(p.exists() for p in written)
     jsonschema.validate(json.loads((REPO / "reports" / "renders" / "summary.json").read_text()), schema)
 

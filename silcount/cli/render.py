@@ -7,7 +7,8 @@ stencil paper's shadow matrix (``--variant literal`` is the printed matrix,
 ``intended`` the corrected one).  ``--shadow-test parity`` and ``--volume
 truncated`` are the stencil paper's printed steps taken literally (the final
 ``If (~Stencil % 2)``; the volumes clipped at the receiver by the "new pixel"
-formula), see :mod:`silcount.render.stencil` and :mod:`silcount.render.volumes`.
+formula); ``--volume sides`` is the EESD paper's z-fail, the volume's sides without caps; see
+:mod:`silcount.render.stencil` and :mod:`silcount.render.volumes`.
 Warnings (open casters, the eye inside a shadow volume) go to stderr.
 
 :func:`report` renders the built-in scenes (:mod:`silcount.render.builtin`)
@@ -67,7 +68,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--volume",
         choices=VOLUMES,
         default="infinite",
-        help="zpass/zfail volumes: infinite (default) or truncated at the floor plane by the paper's 'new pixel'",
+        help="zpass/zfail volumes: infinite (default), truncated at the floor plane by the paper's 'new pixel', "
+        "or sides (infinite, no caps: the EESD paper's z-fail, 'like Z-pass except step 5 and 6')",
     )
     parser.add_argument("--out", type=Path, required=True, metavar="mask.png", help="8-bit mask PNG, 255 in shadow")
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
@@ -133,11 +135,12 @@ def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
     }
 
 
-LITERAL_STEPS = {  # key: (method, shadow test, volume); the stencil paper's printed steps (issue 10, Sec. 5)
+LITERAL_STEPS = {  # key: (method, shadow test, volume); the papers' printed steps (stencil paper Sec. 5, EESD Sec. 4)
     "zfail-parity": ("zfail", "parity", "infinite"),
     "zpass-parity": ("zpass", "parity", "infinite"),
     "zpass-truncated": ("zpass", "nonzero", "truncated"),
     "zfail-truncated": ("zfail", "nonzero", "truncated"),
+    "zfail-uncapped": ("zfail", "nonzero", "sides"),
 }
 
 
@@ -243,10 +246,12 @@ def summary_markdown(summary: dict) -> str:
         lines += [_mismatch_row(scene, method, m) for method, m in e["methods"].items()]
     lines += [
         "",
-        "## The stencil paper's literal steps",
+        "## The papers' literal steps",
         "",
-        "`parity`: the printed final test `If (~Stencil % 2)` (shadow where the stencil is odd) instead of the",
-        "text's 'not zero'; `truncated`: volumes stopped at the floor plane by the 'new pixel' step (Sec. 5).",
+        "`parity`: the stencil paper's printed final test `If (~Stencil % 2)` (shadow where the stencil is odd)",
+        "instead of the text's 'not zero'; `truncated`: volumes stopped at the floor plane by its 'new pixel' step",
+        "(Sec. 5); `uncapped`: the EESD paper's z-fail, 'like Z-pass algorithm except step 5 and 6' (Sec. 4), on",
+        "the volumes' sides alone.",
         "",
         "| scene | step | shadow px | mismatched | fraction | far | matches |",
         "|---|---|---:|---:|---:|---:|---|",

@@ -4,7 +4,9 @@ EESD paper Sec. 5 ("A dot product needs 3 Multiplies and 2 Adds. A vector or
 ray addition requires 3 Adds"), Sec. 5.1 (face normal "3Adds and 3Muls", light
 ray "4Muls and 3Adds", edge inverse "one Inverse or 1Muls": a vertex-pair swap or,
 with signed edge ids, a multiply by -1; the paper does not say how edges are stored), Sec. 5.3 (ray
-point "3Mults and 3Adds", the plane test ``aR_x+bR_y+cR_z+d=0``).  Each
+point "3Mults and 3Adds", the plane test ``aR_x+bR_y+cR_z+d=0`` or, as ``Intersection(R, f)`` names it, a
+test of the face itself; "to extend each edge three addition": a given offset added, or the end moved along its
+edge).  Each
 kernel is the operation under one reading of the text; :func:`kernel_cost`
 counts what executing it costs (arithmetic kinds only: reads and writes
 depend on the memory layout, which the papers do not give).
@@ -89,6 +91,18 @@ def _kernel_ray_plane(c):
     _ = num * den < 0  # the ray x0 + t d (t > 0) crosses the plane
 
 
+def _kernel_ray_triangle(c):
+    from silcount.detectors.eesd_counted import counted_triangle_hit
+
+    o, d = _vec(c, 0.2, 0.2, 5), _vec(c, 0, 0, -1)
+    counted_triangle_hit(o, d, _vec(c, 0, 0, 0), _vec(c, 1, 0, 0), _vec(c, 0, 1, 0), 0.0, float("inf"))
+
+
+def _kernel_extend_along_edge(c):
+    v1, v2, s = _vec(c, 1, 0, 0), _vec(c, 0, 0, 0), Num(1e-6, c)
+    [v1[i] + s * (v1[i] - v2[i]) for i in range(3)]  # the end moved a little further along its own edge
+
+
 def _kernel_sign_test(c):
     _ = Num(0.25, c) > 0
 
@@ -119,6 +133,12 @@ KERNELS = {
     "light_ray_parametric": (_kernel_light_ray_parametric, "a point L + t (p0 - L) of the ray"),
     "point_in_plane": (_kernel_point_in_plane, "aR_x+bR_y+cR_z+d = 0 for a point R"),
     "ray_plane": (_kernel_ray_plane, "does the ray x0 + t d, t > 0, cross the plane"),
+    "ray_triangle": (
+        _kernel_ray_triangle,
+        "does the ray meet the face itself (a triangle, Moller-Trumbore, the test silcount's working EESD runs; "
+        "its one division is not among the papers' kinds)",
+    ),
+    "extend_along_edge": (_kernel_extend_along_edge, "v1 + s (v1 - v2): the end moved along its own edge"),
     "sign_test": (_kernel_sign_test, "x > 0"),
     "visibility": (_kernel_visibility, "silcount's counted visibility (normal from corners, L - p0, dot, sign)"),
     "visibility_precomputed": (_kernel_visibility_precomputed, "(L - p0) . n > 0 with a stored normal"),

@@ -9,6 +9,9 @@ as :func:`silcount.render.masks.compare_masks` does: mismatched pixels over cove
   is odd (:func:`.stencil.shadow_from_stencil`), against the text's "not zero means shadow".
 * ``volume_truncated``: z-pass with each side quad stopped at the receiver plane by the "new pixel"
   formula (Sec. 5, :mod:`.volumes`), against the infinite volume.
+* ``zfail_uncapped``: z-fail on the volume's sides alone (the EESD paper's "like Z-pass algorithm except step
+  5 and 6", Sec. 4: its step 4 gives the silhouette's quads and nothing closes them), against the capped
+  volume of Everitt & Kilgard.
 * ``planar_literal``: the printed shadow matrix with ``E = D - N.L`` (Sec. 4, :mod:`.planar`), on the
   floor pixels only, against the corrected matrix.
 
@@ -47,10 +50,11 @@ def _summary(step: str, literal: dict[str, Comparison], baseline: dict[str, Comp
 
 def stencil_step_evidence() -> dict[str, dict]:
     """Deterministic mismatch of each literal stencil step against ray casting.
-    Keys: "shadow_test_parity", "volume_truncated", "planar_literal" (E = D - N.L, already in render/planar.py).
+    Keys: "shadow_test_parity", "volume_truncated", "zfail_uncapped", "planar_literal" (E = D - N.L, already in
+    render/planar.py).
     Each value: {"scenes": {scene_name: {"mismatch_fraction": float, "far_mismatches": int}}, "summary": str}."""
-    lit: dict[str, dict[str, Comparison]] = {"parity": {}, "truncated": {}, "planar": {}}
-    base: dict[str, dict[str, Comparison]] = {"parity": {}, "truncated": {}, "planar": {}}
+    lit: dict[str, dict[str, Comparison]] = {"parity": {}, "truncated": {}, "uncapped": {}, "planar": {}}
+    base: dict[str, dict[str, Comparison]] = {"parity": {}, "truncated": {}, "uncapped": {}, "planar": {}}
     for name in BUILTIN:
         scene = builtin_scene(name, RESOLUTION)
         truth = raycast(scene)
@@ -63,6 +67,9 @@ def stencil_step_evidence() -> dict[str, dict]:
         base["truncated"][name] = compare_masks(render_stencil(scene, "zpass", depth=sd).mask, truth.mask, cov)
         trunc = render_stencil(scene, "zpass", depth=sd, volume="truncated")
         lit["truncated"][name] = compare_masks(trunc.mask, truth.mask, cov)
+        base["uncapped"][name] = base["parity"][name]
+        sides = render_stencil(scene, "zfail", depth=sd, volume="sides")
+        lit["uncapped"][name] = compare_masks(sides.mask, truth.mask, cov)
         k, _, _ = floor_plane(scene)
         floor = cov & (scene.triangle_object[np.maximum(truth.tri_id, 0)] == k)
         for variant, into in (("literal", lit), ("intended", base)):
@@ -84,6 +91,15 @@ def stencil_step_evidence() -> dict[str, dict]:
                 lit["truncated"],
                 base["truncated"],
                 "infinite volumes",
+            ),
+        },
+        "zfail_uncapped": {
+            "scenes": {n: _entry(c) for n, c in lit["uncapped"].items()},
+            "summary": _summary(
+                "z-fail on the volumes' sides alone (no caps)",
+                lit["uncapped"],
+                base["uncapped"],
+                "capped volumes",
             ),
         },
         "planar_literal": {

@@ -43,7 +43,7 @@ from silcount.render.volumes import Volume, build_volume
 
 METHODS = ("zpass", "zfail")
 SHADOW_TESTS = ("nonzero", "parity")
-VOLUMES = ("infinite", "truncated")
+VOLUMES = ("infinite", "truncated", "sides")
 
 
 def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarray:
@@ -171,8 +171,10 @@ def render_stencil(
 ) -> StencilResult:
     """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera.
 
-    ``shadow_test``: :func:`shadow_from_stencil`.  ``volume``: ``infinite`` (extruded to infinity) or
-    ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`).
+    ``shadow_test``: :func:`shadow_from_stencil`.  ``volume``: ``infinite`` (extruded to infinity),
+    ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`) or
+    ``sides`` (infinite, without caps: z-fail as the EESD paper prints it, "like Z-pass algorithm except step 5
+    and 6", its step 4 giving the silhouette's quads only; z-pass draws no caps either way).
     """
     check_choice("stencil method", method, METHODS)
     check_choice("shadow test", shadow_test, SHADOW_TESTS)
@@ -198,7 +200,7 @@ def render_stencil(
         t1 = time.perf_counter()
         vol = build_volume(obj.mesh, scene.light, silhouette=sil, receiver=receiver)
         parts.append(to_clip(vol.sides, camera.view_projection))
-        if method == "zfail":
+        if method == "zfail" and volume != "sides":
             parts.append(sd.clip[offsets[k] : offsets[k + 1]][vol.lit_faces])
             parts.append(to_clip(vol.dark_cap, camera.view_projection))
         timings["silhouette"] += t1 - t0

@@ -97,10 +97,11 @@ def claims_frame(evidence: "Evidence | None" = None) -> "pd.DataFrame":
 
 
 def findings_markdown(evidence: "Evidence | None" = None) -> str:
-    """The README's findings table, generated from the claims: verdict counts per paper and every FAILS."""
+    """The README's findings table, generated from the claims: verdict counts per paper and every FAILS;
+    ``evidence=None`` is :func:`default_evidence` with the render experiments, as the claims report has them."""
     from silcount.papers.claims.rendering import findings
 
-    return findings(all_claims(evidence))
+    return findings(all_claims(evidence if evidence is not None else default_evidence()))
 
 
 def format_claims(fmt: str, extra_profile: "Profile | None" = None, evidence: "Evidence | None" = None) -> str:

@@ -192,15 +192,18 @@ def stencil_test(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 def standard(c: dict, source: str, ev: Evidence) -> Claim:
+    """The printed step against the standard algorithm's (docs/claims.md, rule 10); with ``evidence``, the render
+    experiment that measures the printed step in pixels (:mod:`silcount.render.experiments`), when it ran."""
     same = c["value"] == c["standard"]
+    stencil = (ev.stencil or {}).get(c["evidence"]) if "evidence" in c else None
     return claim_from_data(
         c,
         source,
         "stencil",
         rederived=f"standard: {c['standard']}",
-        measured=None,
+        measured=stencil["summary"] if stencil else None,
         verdict=HOLDS if same else FAILS,
-        reason=f"against {c['standard_source']}.",
+        reason=f"against {c['standard_source']}." + (f" {NOT_MEASURED}." if "evidence" in c and not stencil else ""),
     )
 
 

@@ -184,9 +184,11 @@ def _leading(model: str, reading: ModelReading, weights: tuple) -> sp.Expr:
 
 
 def fewest_asymptotic(c: dict, source: str) -> Claim:
-    """``winner`` has the smallest leading cycle term as n grows, at each m of ``m_values``."""
+    """``winner`` has the smallest leading cycle term as n grows, at each m of ``m_values``; with
+    ``advantage_points`` (the two figures the sentence compares), also read as the winner's lead growing from the
+    first point to the second: each other's cycles over the winner's larger at the second."""
     w = paper_weights()
-    readings = []
+    readings = _advantage_readings(c, w) if "advantage_points" in c else []
     for mv in c["m_values"]:
         for name, combo in readings_of(c["winner"], *c["others"]):
             lw = _leading(c["winner"], combo[0], w)
@@ -206,6 +208,61 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
         "comparison",
         readings,
         f"leading cycle terms ({WEIGHTS}) of the papers'-convention sums as n grows. " + c.get("m_note", ""),
+    )
+
+
+def _advantage_readings(c: dict, w: tuple) -> list[Reading]:
+    first, second = c["advantage_points"]
+    out = []
+    for name, combo in readings_of(c["winner"], *c["others"]):
+        ratios = []
+        for other, ro in zip(c["others"], combo[1:]):
+            pair = [_value(other, ro, w, p) / _value(c["winner"], combo[0], w, p) for p in (first, second)]
+            ratios.append((other, pair))
+        grows = all(b > a for _, (a, b) in ratios)
+        shown = "; ".join(
+            f"{algo(other)} / {algo(c['winner'])} {float(a):.3f} at (n={first['n']}, m={first['m']}) -> "
+            f"{float(b):.3f} at (n={second['n']}, m={second['m']})"
+            for other, (a, b) in ratios
+        )
+        out.append(Reading(f"{c['advantage_note']}" + (f", {name}" if name else ""), grows, shown))
+    return out
+
+
+def grows_with_m(c: dict, source: str) -> Claim:
+    """``winner`` gets faster as the sides per face grow from ``m_from`` to ``m_to`` at each of ``n_values``: read
+    as its own cycles falling, and as its lead over each other (their cycles over its own) growing; cycle weights."""
+    w = paper_weights()
+    readings = []
+    for n_ in c["n_values"]:
+        lo, hi = {"n": n_, "m": c["m_from"]}, {"n": n_, "m": c["m_to"]}
+        for name, combo in readings_of(c["winner"], *c["others"]):
+            own = [_value(c["winner"], combo[0], w, p) for p in (lo, hi)]
+            tag = f"n = {n_}" + (f", {name}" if name else "")
+            readings.append(
+                Reading(
+                    f"{algo(c['winner'])}'s own cycles fall, {tag}",
+                    bool(own[1] < own[0]),
+                    f"{algo(c['winner'])} {num(own[0])} at m = {lo['m']}, {num(own[1])} at m = {hi['m']}",
+                )
+            )
+            for other, ro in zip(c["others"], combo[1:]):
+                a, b = (_value(other, ro, w, p) / v for p, v in zip((lo, hi), own))
+                readings.append(
+                    Reading(
+                        f"{algo(c['winner'])}'s lead over {algo(other)} grows, {tag}",
+                        bool(b > a),
+                        f"{algo(other)} / {algo(c['winner'])} {float(a):.3f} at m = {lo['m']}, {float(b):.3f} at "
+                        f"m = {hi['m']}",
+                    )
+                )
+    return judged_by_readings(
+        c,
+        source,
+        "comparison",
+        readings,
+        f"{WEIGHTS}, papers'-convention sums, m from {c['m_from']} to {c['m_to']} (the m of Figs. 5 and 6). "
+        "'The speed of HSD will be increased' is read as HSD's own cost and as its lead over the others.",
     )
 
 
@@ -321,6 +378,7 @@ def differ_kinds(c: dict, source: str) -> Claim:
 
 RULES = {
     "differ_kinds": differ_kinds,
+    "grows_with_m": grows_with_m,
     "fewest_asymptotic": fewest_asymptotic,
     "cycle_ratio": cycle_ratio,
     "joint_ratio": joint_ratio,

@@ -1,16 +1,23 @@
-"""The facing test's small facts: faces with one normal, the sign of the paper's D_i, the silhouette product.
+"""The facing test's small facts: faces with one normal, the sign of the paper's D_i, the silhouette product,
+culling by the light.
 
-HSD paper Sec. V ("all same normal vectors have same status"); EESD paper
-Sec. 2 (D_i and ||v, f||, the product of the two faces' signs).  Each
-verdict is decided by sympy or by evaluating the test, never typed.
+HSD paper Sec. V ("all same normal vectors have same status") and Sec. VIII
+(culling the faces turned from the light); EESD paper Sec. 2 (D_i and
+||v, f||, the product of the two faces' signs).  Each verdict is decided by
+sympy or by evaluating the test, never typed.
 """
 
 from __future__ import annotations
 
 import itertools
 
+import numpy as np
 import sympy as sp
 
+from silcount.detectors.adjacency import facing_flags
+from silcount.mesh.lights import PointLight
+from silcount.mesh.shapes import builtin_mesh
+from silcount.papers import growth
 from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings
 from silcount.papers.claims.context import Evidence
 
@@ -84,7 +91,37 @@ def silhouette_product(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def light_culling(c: dict, source: str, ev: Evidence) -> Claim:
+    """'All faces that have normal vectors toward away of light source should be culled' (HSD Sec. VIII), as view
+    culling: on convex built-in meshes (every face turned to the eye is seen), the faces turned from the light but
+    to the eye, for an eye where silcount's standard light is and for eyes on the other axes' sides."""
+    parts, visible_culled = [], 0
+    for name in c["meshes"]:
+        mesh = builtin_mesh(name)
+        light = growth.standard_light(mesh)
+        lit = facing_flags(mesh, light)[0]
+        offset = np.asarray(light.position) - mesh.centre
+        for label, eye_offset in (("at the light", offset), ("opposite the light", -offset)):
+            seen = facing_flags(mesh, PointLight(tuple(mesh.centre + eye_offset)))[0]
+            culled = int(np.count_nonzero(seen & ~lit))
+            if label != "at the light":
+                visible_culled += culled
+            parts.append(f"{name}, eye {label}: {culled} of {int(seen.sum())} faces turned to the eye are culled")
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="; ".join(parts),
+        measured=None,
+        verdict=FAILS if visible_culled else HOLDS,
+        reason="a face turned from the light but to the eye is seen (its shadowed side), so culling it leaves a "
+        "hole; the faces turned from the light are the faces hidden from the eye only when the eye is at the light, "
+        "where no shadow can be seen. Convex meshes, so a face turned to the eye is visible.",
+    )
+
+
 RULES = {
+    "light_culling": light_culling,
     "coplanar": coplanar,
     "facing_sign": facing_sign,
     "silhouette_product": silhouette_product,

@@ -92,7 +92,7 @@ def mesh_ratio(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
-    sub = F.substitutions("eesd2012-ta")
+    sub = F.substitutions(c.get("model", "eesd2012-ta"))
     readings = [
         Reading(
             "n = vertices (as the text says)",
@@ -103,8 +103,11 @@ def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
         Reading(
             "n = faces (as the substitutions say)",
             False,
-            "then the text's 'n vertices' and the tables' "
-            "'number of vertices on the corner of occluder is 10' are wrong",
+            c.get(
+                "faces_reading_note",
+                "then the text's 'n vertices' and the tables' 'number of vertices on the corner of occluder is 10' "
+                "are wrong",
+            ),
         ),
     ]
     return _judged(
@@ -117,7 +120,7 @@ def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 def table_point(c: dict, source: str, ev: Evidence) -> Claim:
-    sub = F.substitutions("eesd2012-ta")
+    sub = F.substitutions(c.get("model", "eesd2012-ta"))
     m_needed = sp.simplify(2 * sub[F.e_n] / sub[F.f_n])
     parts = [f"(n={p['n']}, m={p['m']}): 2E = {2 * 6 * p['n']}, mF = {p['m'] * p['n']}" for p in c["points"]]
     ok = all(p["m"] == m_needed for p in c["points"])
@@ -129,7 +132,8 @@ def table_point(c: dict, source: str, ev: Evidence) -> Claim:
         measured=None,
         verdict=HOLDS if ok else FAILS,
         reason=f"no closed mesh has n faces, 6n edges and m = {', '.join(str(p['m']) for p in c['points'])}; and TA "
-        "itself needs triangles ('each edge should be shared by just two triangles'), m = 3.",
+        f"itself needs triangles ('{c.get('triangles_quote', 'each edge should be shared by just two triangles')}'), "
+        "m = 3.",
     )
 
 
