@@ -609,3 +609,38 @@ def test_the_eesd_pseudocode_and_its_zfail_are_judged(by_key):
     assert z.verdict == FAILS and "no caps" in z.measured and "capped volumes 0.0" in z.measured
     for key in ("eesd-step2-lit-pass", "stencil-step2-lit-pass"):
         assert by_key[key].verdict == FAILS
+
+
+def test_eesd_lead_grows_between_the_tables_under_every_reading(by_key):
+    # by hand (cycles, weights M 4, A 2, C 3, R 1, W 2): TA 13,120 and 2,415,700, VnV 41,760 and 4,143,600,
+    # EESD with the plane equation 15,600 and 1,398,000 (Tables 1 and 2's points)
+    c = by_key["eesd-more-obvious"]
+    assert c.verdict == "HOLDS" and len(c.readings) == 6
+    plane_mult = next(r for r in c.readings if "plane equation" in r.reading and "1 Mult" in r.reading)
+    assert f"TA / EESD {13120 / 15600:.3f} at (n=10, m=5) -> {2415700 / 1398000:.3f}" in plane_mult.outcome
+    assert f"VnV / EESD {41760 / 15600:.3f} at (n=10, m=5) -> {4143600 / 1398000:.3f}" in plane_mult.outcome
+
+
+def test_the_planes_are_not_charged_alike(by_key):
+    # the normal (3A + 3M) is in TA's visibility test (f_n = 100 runs at n = 100) and VnV's (e_n f_n = 60,000
+    # runs); EESD's plane-equation test charges no plane
+    c = by_key["eesd-planes-common"]
+    assert c.verdict == FAILS
+    assert "TA: 600 operations" in c.rederived and "VnV: 360000 operations" in c.rederived
+    assert "EESD: 0 operations" in c.rederived
+
+
+def test_ta_and_hsd_multiplies_and_reads_at_fig_6(by_key):
+    # by hand at n = 100, m = 10 (e_n = 600): TA multiplies (m + 10) n with 1 Mult per inverse, 10 n without;
+    # HSD 11 n or 19 n (one side, m - 1 sides) with it, 10 n without; reads n (8 + k (e_n + 1)), k = m, 1 or m - 1
+    mults = by_key["hsd-ta-mults-differ"]
+    assert mults.verdict == AMBIGUOUS
+    for r in mults.readings:
+        swap = "swap" in r.reading
+        hsd = 1000 if swap else (1100 if "decreased to 1" in r.reading else 1900)
+        ta = 1000 if swap else 2000
+        assert f"TA {ta}, HSD {hsd}" in r.outcome and r.holds == (ta != hsd), r
+    reads = by_key["hsd-ta-reads-differ"]
+    assert reads.verdict == "HOLDS"
+    assert {(100 * (8 + k * 601)) for k in (10, 1, 9)} == {601800, 60900, 541700}
+    assert all("TA 601800" in r.outcome for r in reads.readings)

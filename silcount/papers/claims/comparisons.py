@@ -28,9 +28,12 @@ from silcount.papers import formulas as F
 from silcount.papers import primitives
 from silcount.papers.claims.base import (
     CLAIM_FILES,
+    FAILS,
+    HOLDS,
     Claim,
     Reading,
     algo,
+    claim_from_data,
     cycles,
     judged_by_readings,
     num,
@@ -229,6 +232,45 @@ def _advantage_readings(c: dict, w: tuple) -> list[Reading]:
     return out
 
 
+def advantage_grows(c: dict, source: str) -> Claim:
+    """``winner``'s lead over each of ``others`` (their cycles over its own) grows from the first of
+    ``advantage_points`` to the second, under every reading (:func:`readings_of`); cycle weights."""
+    return judged_by_readings(
+        c,
+        source,
+        "comparison",
+        _advantage_readings(c, paper_weights()),
+        f"{WEIGHTS}, papers'-convention sums at the two points; {c['advantage_note']}.",
+    )
+
+
+def common_cost(c: dict, source: str) -> Claim:
+    """A cost the paper calls common to ``charged``'s models (and so left out of the comparison) is charged the
+    same number of times by each: ``charged`` maps a model to the step whose annotation includes it (``""``:
+    none), ``cost_of`` names the claim that prices it; evaluated at ``point`` with the paper's substitutions."""
+    cost = sum(int(v) for k, v in _primitive_entry(c["cost_of"])["cost"].items())
+    parts, totals = [], []
+    for model, step in c["charged"].items():
+        runs = sp.Integer(0) if not step else F.step_runs(model, step)[0]
+        at = int(sp.nsimplify(runs.subs(F.substitutions(model)).subs({F.n: c["point"]["n"], F.m: c["point"]["m"]})))
+        totals.append(at * cost)
+        parts.append(
+            f"{algo(model)}: {at * cost} operations ("
+            + (f"{step}, {sp.sstr(runs)} runs x {cost}" if step else "charged nowhere")
+            + ")"
+        )
+    same = len(set(totals)) == 1
+    return claim_from_data(
+        c,
+        source,
+        "comparison",
+        rederived=f"at n={c['point']['n']}, m={c['point']['m']}: " + "; ".join(parts),
+        measured=None,
+        verdict=HOLDS if same else FAILS,
+        reason=c["reason_note"],
+    )
+
+
 def grows_with_m(c: dict, source: str) -> Claim:
     """``winner`` gets faster as the sides per face grow from ``m_from`` to ``m_to`` at each of ``n_values``: read
     as its own cycles falling, and as its lead over each other (their cycles over its own) growing; cycle weights."""
@@ -377,6 +419,8 @@ def differ_kinds(c: dict, source: str) -> Claim:
 
 
 RULES = {
+    "advantage_grows": advantage_grows,
+    "common_cost": common_cost,
     "differ_kinds": differ_kinds,
     "grows_with_m": grows_with_m,
     "fewest_asymptotic": fewest_asymptotic,
