@@ -404,7 +404,8 @@ def test_ta_started_with_every_edge_in_s(by_key):
     c = by_key["eesd-ta-prose-start"]
     assert c.verdict == FAILS and "literal variant" in c.reason
     assert "icosahedron: 26 edges vs 7 silhouette edges" in c.measured
-    assert by_key["eesd-ta-intended"].verdict == "HOLDS"  # S empty, as HSD prints it
+    # S empty, as HSD prints it: works when the found edge is deleted (AMBIGUOUS with 'Delete v_p v_q' as written)
+    assert by_key["eesd-ta-intended"].readings[0].holds
 
 
 def test_depth_subtraction_is_not_a_shadow_volume(by_key):
@@ -582,7 +583,7 @@ def test_hsd_restates_the_primitives_the_eesd_paper_is_judged_on(by_key):
     assert "2E = 120, mF = 50" in by_key["hsd-figure-points"].rederived
     assert by_key["hsd-figure-points"].verdict == FAILS and by_key["hsd-n-meaning"].verdict == FAILS
     # TA: the pseudo-code's empty S works, the prose's S of every edge does not (as EESD's prose)
-    assert by_key["hsd-ta-pseudocode"].verdict == "HOLDS" and by_key["hsd-ta-prose-start"].verdict == FAILS
+    assert by_key["hsd-ta-pseudocode"].readings[0].holds and by_key["hsd-ta-prose-start"].verdict == FAILS
 
 
 def test_culling_the_faces_turned_from_the_light_culls_faces_the_eye_sees(by_key):
@@ -597,37 +598,93 @@ def test_culling_the_faces_turned_from_the_light_culls_faces_the_eye_sees(by_key
 def test_extending_an_edge_and_the_ray_to_its_end_have_several_computations(by_key):
     assert by_key["eesd-extend"].verdict == AMBIGUOUS  # 3A given the offset; 6A + 3M along the edge
     assert [r.outcome for r in by_key["eesd-extend"].readings] == ["executed: 3A", "executed: 6A + 3M"]
-    ray = by_key["eesd-ray-to-point"]
-    assert ray.verdict == AMBIGUOUS and [r.holds for r in ray.readings] == [False, True, False]
+    ray = by_key["eesd-ray-to-point"]  # L - v1' 3A; L - w v1' 3A + 3M; L + t (v1' - L) 6A + 3M; x0 + a n 3A + 3M
+    assert ray.verdict == AMBIGUOUS and [r.holds for r in ray.readings] == [False, True, False, True]
     assert "1980" in ray.table_reading  # e_n (3 + 3 f_n) Mult at n = 10: the ray's 3 Mult per edge
 
 
 def test_the_eesd_pseudocode_and_its_zfail_are_judged(by_key):
+    # adding the edge for every face its ray misses adds every edge of the icosahedron (a ray from the light
+    # misses most of its 20 faces) and of the torus: 30 and 864 edges
     assert by_key["eesd-pseudocode"].verdict == FAILS
+    assert "icosahedron: 30 edges vs 7 silhouette edges" in by_key["eesd-pseudocode"].measured
+    assert "torus: 864 edges" in by_key["eesd-pseudocode"].measured
     assert by_key["eesd-step4"].follows_from == "eesd-pseudocode"
     z = by_key["eesd-zfail-like-zpass"]
     assert z.verdict == FAILS and "no caps" in z.measured and "capped volumes 0.0" in z.measured
-    for key in ("eesd-step2-lit-pass", "stencil-step2-lit-pass"):
+    for key in ("eesd-step2-lit-pass", "stencil-step2-lit-pass", "stencil-zfail-like-zpass"):
         assert by_key[key].verdict == FAILS
+    assert by_key["stencil-zfail-like-zpass"].measured == z.measured  # the same experiment
 
 
-def test_eesd_lead_grows_between_the_tables_under_every_reading(by_key):
-    # by hand (cycles, weights M 4, A 2, C 3, R 1, W 2): TA 13,120 and 2,415,700, VnV 41,760 and 4,143,600,
-    # EESD with the plane equation 15,600 and 1,398,000 (Tables 1 and 2's points)
+def _ta_as_written(faces_lit: list[list[int]]) -> set[tuple[int, int]]:
+    """TA's pseudo-code by hand, 'Delete v_p v_q' as the directed side: a side whose inverse is in S deletes
+    itself (absent), any other side is added."""
+    S: set[tuple[int, int]] = set()
+    for f in faces_lit:
+        for a, b in zip(f, f[1:] + f[:1]):
+            if (b, a) in S:
+                S.discard((a, b))
+            else:
+                S.add((a, b))
+    return S
+
+
+def test_ta_delete_as_written_keeps_the_inner_edges(by_key):
+    # two lit triangles sharing an edge: deleting the stored inverse leaves the 4 outer edges; deleting the
+    # directed side as written deletes nothing and keeps the shared edge too (5)
+    assert len(_ta_as_written([[0, 1, 2], [2, 1, 3]])) == 5
+    for key in ("hsd-ta-pseudocode", "eesd-ta-intended"):
+        c = by_key[key]
+        assert c.verdict == AMBIGUOUS
+        stored, written = c.readings
+        assert stored.holds and not written.holds
+        assert "icosahedron: 7 edges vs 7 silhouette edges" in stored.outcome
+        assert "icosahedron: 17 edges vs 7" in written.outcome  # 7 silhouette + 10 shared by two lit faces
+
+
+def test_the_hsd_prose_one_pass_cannot_see_the_light(by_key):
+    # every triangle's sides in S, no visibility test: on a closed mesh each edge has its inverse in S, so the
+    # pass keeps every edge once (omitted one at a time) or none (twins together): tetrahedron 6 or 0, never 4
+    c = by_key["hsd-ta-prose-one-pass"]
+    assert c.verdict == FAILS
+    assert "tetrahedron: 6 edges left of 6, 4 silhouette edges" in c.readings[0].outcome
+    assert "tetrahedron: 0 edges left of 6" in c.readings[1].outcome
+
+
+def test_eesd_lead_grows_between_the_tables_only_where_eesd_is_ahead(by_key):
+    # by hand (cycles, weights M 4, A 2, C 3, R 1, W 2): TA 13,120 and 2,415,700, VnV 41,760 and 4,143,600; EESD
+    # with the plane equation 15,600 and 1,398,000, with a ray crossing 27,600 and 2,598,000, with a test of the
+    # face 107,400 and 10,578,000 (Tables 1 and 2's points).  A lead that grows but stays below 1 (EESD dearer at
+    # Table 2) is no "result more obvious"
     c = by_key["eesd-more-obvious"]
-    assert c.verdict == "HOLDS" and len(c.readings) == 6
-    plane_mult = next(r for r in c.readings if "plane equation" in r.reading and "1 Mult" in r.reading)
-    assert f"TA / EESD {13120 / 15600:.3f} at (n=10, m=5) -> {2415700 / 1398000:.3f}" in plane_mult.outcome
-    assert f"VnV / EESD {41760 / 15600:.3f} at (n=10, m=5) -> {4143600 / 1398000:.3f}" in plane_mult.outcome
+    assert c.verdict == AMBIGUOUS and len(c.readings) == 12  # 2 scales x 3 tests x 2 inverses
+    cycles = [r for r in c.readings if "cycle weights" in r.reading and "1 Mult" in r.reading]
+    eesd = {
+        "plane equation": (15600, 1398000),
+        "ray crossing": (27600, 2598000),
+        "meeting the face": (107400, 10578000),
+    }
+    for r in cycles:
+        test = next(t for t in eesd if t in r.reading)
+        (a5, a6), ta, vnv = eesd[test], (13120, 2415700), (41760, 4143600)
+        assert f"TA / EESD {ta[0] / a5:.3f} at (n=10, m=5) -> {ta[1] / a6:.3f}" in r.outcome
+        assert f"VnV / EESD {vnv[0] / a5:.3f} at (n=10, m=5) -> {vnv[1] / a6:.3f}" in r.outcome
+        ahead = ta[1] / a6 > 1 and vnv[1] / a6 > 1
+        grows = ta[1] / a6 > ta[0] / a5 and vnv[1] / a6 > vnv[0] / a5
+        assert r.holds == (ahead and grows), r
+    assert any(r.holds for r in c.readings) and not all(r.holds for r in c.readings)
 
 
-def test_the_planes_are_not_charged_alike(by_key):
+def test_the_planes_are_needed_alike_but_not_charged_alike(by_key):
     # the normal (3A + 3M) is in TA's visibility test (f_n = 100 runs at n = 100) and VnV's (e_n f_n = 60,000
     # runs); EESD's plane-equation test charges no plane
     c = by_key["eesd-planes-common"]
-    assert c.verdict == FAILS
-    assert "TA: 600 operations" in c.rederived and "VnV: 360000 operations" in c.rederived
-    assert "EESD: 0 operations" in c.rederived
+    assert c.verdict == AMBIGUOUS
+    charged = next(r for r in c.readings if r.reading.startswith("charged"))
+    assert not charged.holds
+    assert "TA: 600 operations" in charged.outcome and "VnV: 360000 operations" in charged.outcome
+    assert "EESD: 0 operations" in charged.outcome
 
 
 def test_ta_and_hsd_multiplies_and_reads_at_fig_6(by_key):
@@ -642,5 +699,6 @@ def test_ta_and_hsd_multiplies_and_reads_at_fig_6(by_key):
         assert f"TA {ta}, HSD {hsd}" in r.outcome and r.holds == (ta != hsd), r
     reads = by_key["hsd-ta-reads-differ"]
     assert reads.verdict == "HOLDS"
-    assert {(100 * (8 + k * 601)) for k in (10, 1, 9)} == {601800, 60900, 541700}
-    assert all("TA 601800" in r.outcome for r in reads.readings)
+    for r in reads.readings:
+        k = 1 if "decreased to 1" in r.reading else 9
+        assert f"TA {100 * (8 + 10 * 601)}, HSD {100 * (8 + k * 601)}" in r.outcome, r

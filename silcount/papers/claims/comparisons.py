@@ -28,12 +28,9 @@ from silcount.papers import formulas as F
 from silcount.papers import primitives
 from silcount.papers.claims.base import (
     CLAIM_FILES,
-    FAILS,
-    HOLDS,
     Claim,
     Reading,
     algo,
-    claim_from_data,
     cycles,
     judged_by_readings,
     num,
@@ -214,7 +211,9 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
     )
 
 
-def _advantage_readings(c: dict, w: tuple) -> list[Reading]:
+def _advantage_readings(c: dict, w: tuple, scale: str = "") -> list[Reading]:
+    """The winner's lead over each other (their cost over its own) at the two ``advantage_points``: a reading
+    holds when every lead grows and the winner is ahead (a lead above 1) at the second point."""
     first, second = c["advantage_points"]
     out = []
     for name, combo in readings_of(c["winner"], *c["others"]):
@@ -222,32 +221,37 @@ def _advantage_readings(c: dict, w: tuple) -> list[Reading]:
         for other, ro in zip(c["others"], combo[1:]):
             pair = [_value(other, ro, w, p) / _value(c["winner"], combo[0], w, p) for p in (first, second)]
             ratios.append((other, pair))
-        grows = all(b > a for _, (a, b) in ratios)
+        grows = all(b > a and b > 1 for _, (a, b) in ratios)
         shown = "; ".join(
             f"{algo(other)} / {algo(c['winner'])} {float(a):.3f} at (n={first['n']}, m={first['m']}) -> "
             f"{float(b):.3f} at (n={second['n']}, m={second['m']})"
             for other, (a, b) in ratios
         )
-        out.append(Reading(f"{c['advantage_note']}" + (f", {name}" if name else ""), grows, shown))
+        tag = ", ".join(x for x in (scale, name) if x)
+        out.append(Reading(f"{c['advantage_note']}" + (f", {tag}" if tag else ""), grows, shown))
     return out
 
 
 def advantage_grows(c: dict, source: str) -> Claim:
-    """``winner``'s lead over each of ``others`` (their cycles over its own) grows from the first of
-    ``advantage_points`` to the second, under every reading (:func:`readings_of`); cycle weights."""
+    """``winner``'s lead over each of ``others`` (their cost over its own) grows from the first of
+    ``advantage_points`` to the second and ends above 1, under every reading (:func:`readings_of`), with cycle
+    weights and as raw counts."""
+    readings = [r for label, weights_of in SCALES.values() for r in _advantage_readings(c, weights_of(), label)]
     return judged_by_readings(
         c,
         source,
         "comparison",
-        _advantage_readings(c, paper_weights()),
-        f"{WEIGHTS}, papers'-convention sums at the two points; {c['advantage_note']}.",
+        readings,
+        f"papers'-convention sums at the two points, {WEIGHTS} and raw counts; {c['advantage_note']}, read as "
+        f"{algo(c['winner'])} ahead of each other at the second point by a larger factor than at the first.",
     )
 
 
 def common_cost(c: dict, source: str) -> Claim:
-    """A cost the paper calls common to ``charged``'s models (and so left out of the comparison) is charged the
-    same number of times by each: ``charged`` maps a model to the step whose annotation includes it (``""``:
-    none), ``cost_of`` names the claim that prices it; evaluated at ``point`` with the paper's substitutions."""
+    """A cost the paper calls the same for ``charged``'s models: read as charged alike by their sums (``charged``
+    maps a model to the step whose annotation includes it, ``""`` for none; ``cost_of`` names the claim that
+    prices it; evaluated at ``point`` with the paper's substitutions), and as needed alike by the algorithms
+    (``needed_note``: why each needs it)."""
     cost = sum(int(v) for k, v in _primitive_entry(c["cost_of"])["cost"].items())
     parts, totals = [], []
     for model, step in c["charged"].items():
@@ -259,16 +263,15 @@ def common_cost(c: dict, source: str) -> Claim:
             + (f"{step}, {sp.sstr(runs)} runs x {cost}" if step else "charged nowhere")
             + ")"
         )
-    same = len(set(totals)) == 1
-    return claim_from_data(
-        c,
-        source,
-        "comparison",
-        rederived=f"at n={c['point']['n']}, m={c['point']['m']}: " + "; ".join(parts),
-        measured=None,
-        verdict=HOLDS if same else FAILS,
-        reason=c["reason_note"],
-    )
+    readings = [
+        Reading(
+            "charged alike by the three sums",
+            len(set(totals)) == 1,
+            f"at n={c['point']['n']}, m={c['point']['m']}: " + "; ".join(parts),
+        ),
+        Reading("needed alike by the three algorithms", True, c["needed_note"]),
+    ]
+    return judged_by_readings(c, source, "comparison", readings, c["reason_note"])
 
 
 def grows_with_m(c: dict, source: str) -> Claim:

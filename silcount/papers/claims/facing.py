@@ -94,7 +94,8 @@ def silhouette_product(c: dict, source: str, ev: Evidence) -> Claim:
 def light_culling(c: dict, source: str, ev: Evidence) -> Claim:
     """'All faces that have normal vectors toward away of light source should be culled' (HSD Sec. VIII), as view
     culling: on convex built-in meshes (every face turned to the eye is seen), the faces turned from the light but
-    to the eye, for an eye where silcount's standard light is and for eyes on the other axes' sides."""
+    to the eye, for an eye at silcount's standard light (the HSD paper's 'the light source is located in the viewer
+    point of eyes', Sec. V, where no shadow can be seen) and for an eye opposite it."""
     parts, visible_culled = [], 0
     for name in c["meshes"]:
         mesh = builtin_mesh(name)

@@ -97,8 +97,11 @@ def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
         Reading(
             "n = vertices (as the text says)",
             False,
-            f"the sums substitute f_n = {sp.sstr(sub[F.f_n])}, e_n = {sp.sstr(sub[F.e_n])}: with n vertices the "
-            "paper's own ratios give f_n = n/2 and e_n = 3n",
+            c.get(
+                "vertices_reading_note",
+                f"the sums substitute f_n = {sp.sstr(sub[F.f_n])}, e_n = {sp.sstr(sub[F.e_n])}: with n vertices the "
+                "paper's own ratios give f_n = n/2 and e_n = 3n",
+            ),
         ),
         Reading(
             "n = faces (as the substitutions say)",
