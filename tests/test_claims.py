@@ -702,3 +702,12 @@ def test_ta_and_hsd_multiplies_and_reads_at_fig_6(by_key):
     for r in reads.readings:
         k = 1 if "decreased to 1" in r.reading else 9
         assert f"TA {100 * (8 + 10 * 601)}, HSD {100 * (8 + k * 601)}" in r.outcome, r
+
+
+def test_the_printed_ridge_is_the_silhouette_again(by_key):
+    # by hand: a cube seen from the (+, +, +) octant shows 3 faces; their 12 - 3 = 9 edges less the 3 they share
+    # are the 6 between a visible and an invisible face, the silhouette; every one of the 12 edges is a 90-degree
+    # crease, a ridge for Isenberg et al. at any threshold below 90 degrees
+    c = by_key["eesd-ridge-definition"]
+    assert c.verdict == FAILS
+    assert "quad_cube: 6 edges by the printed definition, 6 silhouette edges, 12 creases" in c.rederived

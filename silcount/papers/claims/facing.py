@@ -3,7 +3,7 @@ culling by the light.
 
 HSD paper Sec. V ("all same normal vectors have same status") and Sec. VIII
 (culling the faces turned from the light); EESD paper Sec. 2 (D_i and
-||v, f||, the product of the two faces' signs).  Each verdict is decided by
+||v, f||, the product of the two faces' signs, the "ridge edges").  Each verdict is decided by
 sympy or by evaluating the test, never typed.
 """
 
@@ -14,7 +14,7 @@ import itertools
 import numpy as np
 import sympy as sp
 
-from silcount.detectors.adjacency import facing_flags
+from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.mesh.lights import PointLight
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth
@@ -121,7 +121,49 @@ def light_culling(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
+    """The EESD paper's categories (Sec. 2): 'ridge edges ... one visible plane face and one invisible plane face',
+    against the silhouette's 'visible edges which connect the back faces to the front faces' and against the
+    ridges of Isenberg et al. 2003 (the paper's [7]): creases whose faces' normals meet at more than
+    ``crease_degrees``, whatever the view.  On closed built-in meshes, viewed from silcount's standard light
+    (visible = turned to the eye; closed two-faced meshes, so every edge has one face on each side or none)."""
+    parts, same_as_silhouette, differs_from_creases = [], True, False
+    for name in c["meshes"]:
+        mesh = builtin_mesh(name)
+        if not (mesh.edge_valence == 2).all():
+            raise ValueError(f"{c['id']}: {name} is not a closed two-manifold mesh")
+        seen = facing_flags(mesh, growth.standard_light(mesh))[0]
+        start, order = mesh.edge_sides
+        faces = mesh.side_face[order].reshape(-1, 2)  # closed two-manifold: two sides per edge, in edge order
+        paper = seen[faces[:, 0]] != seen[faces[:, 1]]
+        silhouette = np.zeros(mesh.n_edges, dtype=bool)
+        silhouette[silhouette_edge_ids(mesh, growth.standard_light(mesh))] = True
+        cos = np.einsum("ij,ij->i", *(mesh.face_normals[faces[:, k]] for k in (0, 1)))
+        lengths = [np.linalg.norm(mesh.face_normals[faces[:, k]], axis=1) for k in (0, 1)]
+        cos /= lengths[0] * lengths[1]
+        crease = cos < np.cos(np.radians(c["crease_degrees"]))
+        same_as_silhouette &= bool(np.array_equal(paper, silhouette))
+        differs_from_creases |= not np.array_equal(paper, crease)
+        parts.append(
+            f"{name}: {int(paper.sum())} edges by the printed definition, {int(silhouette.sum())} silhouette edges, "
+            f"{int(crease.sum())} creases over {c['crease_degrees']} degrees, of {mesh.n_edges}"
+        )
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="; ".join(parts),
+        measured=None,
+        verdict=FAILS if same_as_silhouette and differs_from_creases else HOLDS,
+        reason="the printed 'ridge' is the silhouette again (the same edges on every mesh, and view-dependent), not "
+        "the crease of Isenberg et al. 2003 (the paper's [7]), which depends on the angle between the faces alone."
+        if same_as_silhouette and differs_from_creases
+        else "",
+    )
+
+
 RULES = {
+    "ridge_definition": ridge_definition,
     "light_culling": light_culling,
     "coplanar": coplanar,
     "facing_sign": facing_sign,
