@@ -53,16 +53,28 @@ def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
     them the stencil claims keep their verdicts, judged by their readings, and say "not measured".
     """
     from silcount.counting import models
-    from silcount.papers.claims import algorithms, cells, citations, comparisons, derivations, facing, fps, inventory
+    from silcount.papers.claims import (
+        algorithms,
+        cells,
+        citations,
+        comparisons,
+        derivations,
+        facing,
+        fps,
+        inventory,
+        toggles,
+        trends,
+    )
 
     ev = default_evidence(render=False) if evidence is None else evidence
     with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
         **inventory.RULES,
         **facing.RULES,
         **algorithms.RULES,
+        **toggles.RULES,
         **citations.RULES,
     }
-    plain: dict[str, Callable[[dict, str], Claim]] = {**comparisons.RULES, **fps.RULES}
+    plain: dict[str, Callable[[dict, str], Claim]] = {**comparisons.RULES, **trends.RULES, **fps.RULES}
     multi: dict[str, Callable[[dict, str], list[Claim]]] = {**comparisons.MULTI, **fps.MULTI}
     out = derivations.derivation_claims() + cells.cell_claims()
     for name in CLAIM_FILES:

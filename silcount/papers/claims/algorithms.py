@@ -20,7 +20,6 @@ import numpy as np
 import sympy as sp
 
 from silcount.detectors import detect
-from silcount.detectors.adjacency import facing_flags
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth, projection
 from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings, show_readings
@@ -87,108 +86,6 @@ def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
         reason=f"silcount's {c['detector']} detector, {c['variant']} variant ({VARIANT_NOTE[c['variant']]}), against "
         "the reference (an edge whose two faces differ in facing the light, the papers' Sec. 2 definition) for one "
         "point light per mesh.",
-    )
-
-
-def ta_pseudocode(c: dict, source: str, ev: Evidence) -> Claim:
-    """TA's pseudo-code with S started empty, its ``Delete v_p v_q`` read two ways: as the edge found (its stored
-    inverse ``v_p v_q^{-1}``, silcount's ``ta`` detector, ``intended``) and as written, the directed side
-    ``v_p v_q``, which S does not hold when the test has just found its inverse (simulated here with a set of
-    directed sides over the detectors' own facing flags); each against the reference, one point light per mesh."""
-    parts: dict[str, list[str]] = {"stored": [], "written": []}
-    agree = {"stored": True, "written": True}
-    for name in c["meshes"]:
-        mesh = builtin_mesh(name)
-        light = growth.standard_light(mesh)
-        want = {tuple(e) for e in mesh.edges[detect(mesh, light, "reference").edge_ids].tolist()}
-        got_stored = {tuple(e) for e in mesh.edges[detect(mesh, light, "ta", engine="fast").edge_ids].tolist()}
-        lit = facing_flags(mesh, light)[0]
-        S: set[tuple[int, int]] = set()
-        for p in np.flatnonzero(lit).tolist():
-            corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
-            for a, b in zip(corners, corners[1:] + corners[:1]):
-                if (b, a) in S:
-                    S.discard((a, b))  # as written: the side itself, not in S
-                else:
-                    S.add((a, b))
-        got_written = {(min(a, b), max(a, b)) for a, b in S}
-        for key, got in (("stored", got_stored), ("written", got_written)):
-            agree[key] &= got == want
-            parts[key].append(
-                f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, "
-                f"{len(want - got)} missed"
-            )
-    readings = [
-        Reading("Delete v_p v_q as the edge the test found (its stored inverse)", agree["stored"],
-                "; ".join(parts["stored"])),
-        Reading("Delete v_p v_q as written (the directed side, not in S: nothing is deleted)", agree["written"],
-                "; ".join(parts["written"])),
-    ]  # fmt: skip
-    return _judged(
-        c,
-        source,
-        "algorithm",
-        readings,
-        reason="S starts empty and each light-facing face's sides are looked up in S as the pseudo-code prints; "
-        "the edges left in S against the reference (an edge whose two faces differ in facing the light, the "
-        "papers' Sec. 2 definition) for one point light per mesh.",
-    )
-
-
-def one_pass(c: dict, source: str, ev: Evidence) -> Claim:
-    """TA as the HSD prose describes it (Sec. 4.1): S holds every triangle's sides; one pass from the first,
-    an edge whose inverse is in S omitted, the others kept: with the omissions made one at a time in array order
-    (the first of each twin pair goes, the second then finds no inverse and stays) or for both twins at once.
-    No step looks at the light, so neither can give a light's silhouette."""
-    parts: dict[str, list[str]] = {"one at a time": [], "twins at once": []}
-    silhouette = {"one at a time": True, "twins at once": True}
-    for name in c["meshes"]:
-        mesh = builtin_mesh(name)
-        want = len(detect(mesh, growth.standard_light(mesh), "reference").edge_ids)
-        sides = [(a, b) for p in range(mesh.n_faces)
-                 for a, b in zip(*(lambda cs: (cs, cs[1:] + cs[:1]))(
-                     mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()))]  # fmt: skip
-        S = list(sides)
-        alive = set(sides)
-        for a, b in S:  # one at a time, in array order
-            if (b, a) in alive:
-                alive.discard((a, b))
-        together = {(a, b) for a, b in sides if (b, a) not in set(sides)}
-        for key, left in (("one at a time", alive), ("twins at once", together)):
-            edges = {(min(a, b), max(a, b)) for a, b in left}
-            silhouette[key] &= len(edges) == want
-            parts[key].append(f"{name}: {len(edges)} edges left of {mesh.n_edges}, {want} silhouette edges")
-    readings = [Reading(f"omissions made {key}", silhouette[key], "; ".join(parts[key])) for key in parts]
-    return _judged(
-        c,
-        source,
-        "algorithm",
-        readings,
-        reason="no step of the prose looks at the light, so what is left cannot depend on it; on closed meshes "
-        "every edge has its inverse in S.",
-    )
-
-
-def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
-    parts, empty = [], True
-    for name in c["meshes"]:
-        mesh = builtin_mesh(name)
-        S: set[tuple[int, int]] = set()
-        for p in range(mesh.n_faces):
-            corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
-            for a, b in zip(corners, corners[1:] + corners[:1]):
-                S.symmetric_difference_update({(b, a)} if (b, a) in S else {(a, b)})
-        empty &= not S
-        parts.append(f"{name}: {len(S)} edges left of {mesh.n_edges}")
-    return claim_from_data(
-        c,
-        source,
-        "algorithm",
-        rederived="",
-        measured="; ".join(parts),
-        verdict=FAILS if empty else HOLDS,
-        reason="run over all NP polygons with no visibility test, the toggle adds each edge of a closed mesh from "
-        "one face and deletes it from the other: nothing is left, whatever the light.",
     )
 
 
@@ -440,12 +337,9 @@ def nested_sums(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 RULES = {
-    "ta_pseudocode": ta_pseudocode,
-    "one_pass": one_pass,
     "nested_sums": nested_sums,
     "hit_count": hit_count,
     "detector_agreement": detector_agreement,
-    "toggle_all": toggle_all,
     "step_list": step_list,
     "stencil_ops": stencil_ops,
     "stencil_test": stencil_test,
