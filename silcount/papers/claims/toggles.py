@@ -19,6 +19,15 @@ from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from
 from silcount.papers.claims.context import Evidence
 
 
+def _sides(mesh, faces) -> list[tuple[int, int]]:
+    """The directed sides (a, b) of ``faces``, face by face, each face's corners in order."""
+    out = []
+    for p in faces:
+        corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
+        out += list(zip(corners, corners[1:] + corners[:1]))
+    return out
+
+
 def ta_pseudocode(c: dict, source: str, ev: Evidence) -> Claim:
     """TA's pseudo-code with S started empty, its ``Delete v_p v_q`` read two ways: as the edge found (its stored
     inverse ``v_p v_q^{-1}``, silcount's ``ta`` detector, ``intended``) and as written, the directed side
@@ -33,13 +42,11 @@ def ta_pseudocode(c: dict, source: str, ev: Evidence) -> Claim:
         got_stored = {tuple(e) for e in mesh.edges[detect(mesh, light, "ta", engine="fast").edge_ids].tolist()}
         lit = facing_flags(mesh, light)[0]
         S: set[tuple[int, int]] = set()
-        for p in np.flatnonzero(lit).tolist():
-            corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
-            for a, b in zip(corners, corners[1:] + corners[:1]):
-                if (b, a) in S:
-                    S.discard((a, b))  # as written: the side itself, not in S
-                else:
-                    S.add((a, b))
+        for a, b in _sides(mesh, np.flatnonzero(lit).tolist()):
+            if (b, a) in S:
+                S.discard((a, b))  # as written: the side itself, not in S
+            else:
+                S.add((a, b))
         got_written = {(min(a, b), max(a, b)) for a, b in S}
         for key, got in (("stored", got_stored), ("written", got_written)):
             agree[key] &= got == want
@@ -74,15 +81,12 @@ def one_pass(c: dict, source: str, ev: Evidence) -> Claim:
     for name in c["meshes"]:
         mesh = builtin_mesh(name)
         want = len(detect(mesh, growth.standard_light(mesh), "reference").edge_ids)
-        sides = [(a, b) for p in range(mesh.n_faces)
-                 for a, b in zip(*(lambda cs: (cs, cs[1:] + cs[:1]))(
-                     mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()))]  # fmt: skip
-        S = list(sides)
-        alive = set(sides)
-        for a, b in S:  # one at a time, in array order
+        sides = _sides(mesh, range(mesh.n_faces))
+        alive, every = set(sides), set(sides)
+        for a, b in sides:  # one at a time, in array order
             if (b, a) in alive:
                 alive.discard((a, b))
-        together = {(a, b) for a, b in sides if (b, a) not in set(sides)}
+        together = {(a, b) for a, b in sides if (b, a) not in every}
         for key, left in (("one at a time", alive), ("twins at once", together)):
             edges = {(min(a, b), max(a, b)) for a, b in left}
             silhouette[key] &= len(edges) == want
@@ -103,10 +107,8 @@ def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
     for name in c["meshes"]:
         mesh = builtin_mesh(name)
         S: set[tuple[int, int]] = set()
-        for p in range(mesh.n_faces):
-            corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
-            for a, b in zip(corners, corners[1:] + corners[:1]):
-                S.symmetric_difference_update({(b, a)} if (b, a) in S else {(a, b)})
+        for a, b in _sides(mesh, range(mesh.n_faces)):
+            S.symmetric_difference_update({(b, a)} if (b, a) in S else {(a, b)})
         empty &= not S
         parts.append(f"{name}: {len(S)} edges left of {mesh.n_edges}")
     return claim_from_data(
