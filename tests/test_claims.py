@@ -711,3 +711,25 @@ def test_the_printed_ridge_is_the_silhouette_again(by_key):
     c = by_key["eesd-ridge-definition"]
     assert c.verdict == FAILS
     assert "quad_cube: 6 edges by the printed definition, 6 silhouette edges, 12 creases" in c.rederived
+
+
+def test_a_search_of_s_exceeds_e_n_when_s_starts_with_every_edge(by_key):
+    # by hand: a quad of two triangles (0, 1, 2) and (2, 1, 3), both lit, e_n = 5, S = every edge as stored,
+    # (0,1) (0,2) (1,2) (1,3) (2,3).  Side (0,1): no (1,0), 5 compares, appended (6 entries); side (1,2): no
+    # (2,1), 6 compares: more than e_n.  Started empty, S never holds an edge twice, so never more than e_n
+    S = [(0, 1), (0, 2), (1, 2), (1, 3), (2, 3)]
+    most = 0
+    for a, b in [(0, 1), (1, 2), (2, 0), (2, 1), (1, 3), (3, 2)]:
+        if (b, a) in S:
+            most = max(most, S.index((b, a)) + 1)
+            S.remove((b, a))
+        else:
+            most = max(most, len(S))
+            S.append((a, b))
+    assert most == 6 > 5
+    for key in ("eesd-search-bound", "hsd-search-bound"):
+        c = by_key[key]
+        assert c.verdict == AMBIGUOUS
+        empty, full = c.readings
+        assert empty.holds and not full.holds
+        assert "icosahedron: at most 31 compares in one search, e_n = 30" in full.outcome

@@ -102,6 +102,40 @@ def one_pass(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def search_bound(c: dict, source: str, ev: Evidence) -> Claim:
+    """'Search in the array which needs e_n Compares': the most entries one linear search of S examines (its
+    position plus one when found, all of S when not), TA run as its pseudo-code with the found edge deleted,
+    S started empty or with every edge (each in its stored orientation), against e_n; one point light per
+    mesh."""
+    readings = []
+    for start, label in (("empty", "S started empty"), ("full", "S started with every edge")):
+        parts, ok = [], True
+        for name in c["meshes"]:
+            mesh = builtin_mesh(name)
+            lit = facing_flags(mesh, growth.standard_light(mesh))[0]
+            S: list[tuple[int, int]] = [] if start == "empty" else [tuple(e) for e in mesh.edges.tolist()]
+            most = 0
+            for a, b in _sides(mesh, np.flatnonzero(lit).tolist()):
+                if (b, a) in S:
+                    pos = S.index((b, a))
+                    most = max(most, pos + 1)
+                    del S[pos]
+                else:
+                    most = max(most, len(S))
+                    S.append((a, b))
+            ok &= most <= mesh.n_edges
+            parts.append(f"{name}: at most {most} compares in one search, e_n = {mesh.n_edges}")
+        readings.append(Reading(label, ok, "; ".join(parts)))
+    return _judged(
+        c,
+        source,
+        "algorithm",
+        readings,
+        reason="a search of S compares against at most the entries S holds; started empty S never holds an edge "
+        "twice, started with every edge it also gains the lit sides whose inverse it does not hold.",
+    )
+
+
 def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
     parts, empty = [], True
     for name in c["meshes"]:
@@ -124,6 +158,7 @@ def toggle_all(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 RULES = {
+    "search_bound": search_bound,
     "ta_pseudocode": ta_pseudocode,
     "one_pass": one_pass,
     "toggle_all": toggle_all,
