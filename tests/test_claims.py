@@ -733,3 +733,11 @@ def test_a_search_of_s_exceeds_e_n_when_s_starts_with_every_edge(by_key):
         empty, full = c.readings
         assert empty.holds and not full.holds
         assert "icosahedron: at most 31 compares in one search, e_n = 30" in full.outcome
+
+
+def test_adding_to_s_is_a_write_or_a_counted_append(by_key):
+    # S[k] = e is a write and no arithmetic; keeping S's length as a counter adds one Add; TA's same step is
+    # annotated "1 write" (EESD line 286), EESD's "1Add" (line 346)
+    c = by_key["eesd-add-to-s"]
+    assert c.verdict == AMBIGUOUS
+    assert [(r.holds, r.outcome) for r in c.readings] == [(False, "executed: no arithmetic"), (True, "executed: 1A")]

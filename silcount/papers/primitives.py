@@ -14,7 +14,7 @@ depend on the memory layout, which the papers do not give).
 
 from __future__ import annotations
 
-from silcount.counting.arithmetic import Num, OpCounter
+from silcount.counting.arithmetic import Num, OpCounter, plain
 
 
 def _vec(counter: OpCounter, *vals: float) -> list[Num]:
@@ -103,6 +103,17 @@ def _kernel_extend_along_edge(c):
     [v1[i] + s * (v1[i] - v2[i]) for i in range(3)]  # the end moved a little further along its own edge
 
 
+def _kernel_append(c):
+    s, size, e = [0, 0], 1, 7
+    s[size] = e  # S[k] = edge: a write, no arithmetic
+
+
+def _kernel_append_counted(c):
+    s, size, e = [0, 0], Num(1, c), 7
+    s[int(plain(size))] = e
+    size = size + 1  # the array's length kept as a counter: one add
+
+
 def _kernel_sign_test(c):
     _ = Num(0.25, c) > 0
 
@@ -139,6 +150,8 @@ KERNELS = {
         "its one division is not among the papers' kinds)",
     ),
     "extend_along_edge": (_kernel_extend_along_edge, "v1 + s (v1 - v2): the end moved along its own edge"),
+    "append": (_kernel_append, "S[k] = e: an append as a write"),
+    "append_counted": (_kernel_append_counted, "S[size] = e; size = size + 1: an append with its length counted"),
     "sign_test": (_kernel_sign_test, "x > 0"),
     "visibility": (_kernel_visibility, "silcount's counted visibility (normal from corners, L - p0, dot, sign)"),
     "visibility_precomputed": (_kernel_visibility_precomputed, "(L - p0) . n > 0 with a stored normal"),
