@@ -1,17 +1,21 @@
-"""Regenerate the README's findings table from the claims (run by `make report`).
+"""Regenerate the README's findings table from the claims (run by `make report`, after `silcount report`).
 
 The block between ``<!-- findings:start -->`` and ``<!-- findings:end -->`` in
-README.md is replaced by :func:`silcount.papers.claims.findings_markdown`, so
-the README never carries a typed verdict; ``tests/test_readme.py`` checks it.
+README.md is replaced by the findings of the claims `silcount report` has just
+written (``reports/claims/claims.json``, read back rather than judged again,
+render experiments included), so the README never carries a typed verdict;
+``tests/test_readme.py`` checks it against :func:`silcount.papers.claims.findings_markdown`.
 """
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
 from silcount.atomic import write_text
-from silcount.papers.claims import findings_markdown
+from silcount.papers.claims.base import Claim
+from silcount.papers.claims.rendering import findings as findings_table
 
 START, END = "<!-- findings:start -->", "<!-- findings:end -->"
 
@@ -33,9 +37,11 @@ def splice(readme: str, findings: str) -> str:
 
 
 def main() -> int:
-    path = Path(__file__).resolve().parents[1] / "README.md"
+    root = Path(__file__).resolve().parents[1]
+    path = root / "README.md"
+    claims = [Claim.from_json(d) for d in json.loads((root / "reports" / "claims" / "claims.json").read_text())]
     text = path.read_text()
-    new = splice(text, findings_markdown())
+    new = splice(text, findings_table(claims))
     if new != text:
         write_text(path, new)
     print(f"README.md findings: {'updated' if new != text else 'unchanged'}")

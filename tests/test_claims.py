@@ -741,3 +741,12 @@ def test_adding_to_s_is_a_write_or_a_counted_append(by_key):
     c = by_key["eesd-add-to-s"]
     assert c.verdict == AMBIGUOUS
     assert [(r.holds, r.outcome) for r in c.readings] == [(False, "executed: no arithmetic"), (True, "executed: 1A")]
+
+
+def test_claims_read_back_from_json_render_the_same_findings(all_claims):
+    # scripts/readme_findings.py rebuilds the README's table from reports/claims/claims.json
+    from silcount.papers.claims.base import Claim
+
+    back = [Claim.from_json(d) for d in json.loads(render_json(all_claims))]
+    assert back == all_claims
+    assert findings(back) == findings(all_claims)

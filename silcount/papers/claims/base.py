@@ -86,6 +86,15 @@ class Claim:
             "follows_from": self.follows_from or None,
         }
 
+    @classmethod
+    def from_json(cls, d: dict) -> "Claim":
+        """The claim :meth:`as_json` wrote (``where`` is derived, so it is not read back)."""
+        fields = {k: v for k, v in d.items() if k not in ("where", "readings", "table_reading", "follows_from")}
+        readings = [Reading(**r) for r in d["readings"]]
+        return cls(
+            **fields, readings=readings, table_reading=d["table_reading"] or "", follows_from=d["follows_from"] or ""
+        )
+
 
 def from_readings(readings: list[Reading]) -> str:
     """HOLDS when every reading holds, FAILS when none does, AMBIGUOUS otherwise."""
