@@ -64,6 +64,13 @@ def _judged(c, source, family, readings, rederived="", measured=None, reason="")
     )
 
 
+def agreement(name: str, got: set, want: set) -> str:
+    """How the edges a run left compare with the silhouette's, on mesh ``name``."""
+    return (
+        f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, {len(want - got)} missed"
+    )
+
+
 def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
     parts, agree = [], True
     for name in c["meshes"]:
@@ -72,10 +79,7 @@ def detector_agreement(c: dict, source: str, ev: Evidence) -> Claim:
         got = set(detect(mesh, light, c["detector"], variant=c["variant"], engine="fast").edge_ids.tolist())
         want = set(detect(mesh, light, "reference").edge_ids.tolist())
         agree &= got == want
-        parts.append(
-            f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, "
-            f"{len(want - got)} missed"
-        )
+        parts.append(agreement(name, got, want))
     return claim_from_data(
         c,
         source,

@@ -14,7 +14,7 @@ from silcount.detectors import detect
 from silcount.detectors.adjacency import facing_flags
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth
-from silcount.papers.claims.algorithms import _judged
+from silcount.papers.claims.algorithms import _judged, agreement
 from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data
 from silcount.papers.claims.context import Evidence
 
@@ -26,6 +26,31 @@ def _sides(mesh, faces) -> list[tuple[int, int]]:
         corners = mesh.corners[mesh.face_start[p] : mesh.face_start[p + 1]].tolist()
         out += list(zip(corners, corners[1:] + corners[:1]))
     return out
+
+
+def _lit_sides(mesh) -> list[tuple[int, int]]:
+    """The directed sides of the faces turned to silcount's standard light, by the detectors' own facing test."""
+    return _sides(mesh, np.flatnonzero(facing_flags(mesh, growth.standard_light(mesh))[0]).tolist())
+
+
+def _run_s(sides, initial: list[tuple[int, int]], delete: str) -> tuple[list[tuple[int, int]], int]:
+    """TA's loop over ``sides`` on the array S (``initial``, a linear list): a side whose inverse S holds deletes
+    the inverse (``delete="found"``) or itself as written (``"written"``: S does not hold it, nothing goes);
+    any other side is appended.  S at the end, and the most entries one search examined (the found entry's
+    position plus one, all of S when nothing is found)."""
+    S, most = list(initial), 0
+    for a, b in sides:
+        if (b, a) in S:
+            pos = S.index((b, a))
+            most = max(most, pos + 1)
+            if delete == "found":
+                del S[pos]
+            elif (a, b) in S:
+                S.remove((a, b))
+        else:
+            most = max(most, len(S))
+            S.append((a, b))
+    return S, most
 
 
 def ta_pseudocode(c: dict, source: str, ev: Evidence) -> Claim:
@@ -40,20 +65,11 @@ def ta_pseudocode(c: dict, source: str, ev: Evidence) -> Claim:
         light = growth.standard_light(mesh)
         want = {tuple(e) for e in mesh.edges[detect(mesh, light, "reference").edge_ids].tolist()}
         got_stored = {tuple(e) for e in mesh.edges[detect(mesh, light, "ta", engine="fast").edge_ids].tolist()}
-        lit = facing_flags(mesh, light)[0]
-        S: set[tuple[int, int]] = set()
-        for a, b in _sides(mesh, np.flatnonzero(lit).tolist()):
-            if (b, a) in S:
-                S.discard((a, b))  # as written: the side itself, not in S
-            else:
-                S.add((a, b))
+        S, _ = _run_s(_lit_sides(mesh), [], "written")
         got_written = {(min(a, b), max(a, b)) for a, b in S}
         for key, got in (("stored", got_stored), ("written", got_written)):
             agree[key] &= got == want
-            parts[key].append(
-                f"{name}: {len(got)} edges vs {len(want)} silhouette edges, {len(got - want)} extra, "
-                f"{len(want - got)} missed"
-            )
+            parts[key].append(agreement(name, got, want))
     readings = [
         Reading("Delete v_p v_q as the edge the test found (its stored inverse)", agree["stored"],
                 "; ".join(parts["stored"])),
@@ -112,17 +128,8 @@ def search_bound(c: dict, source: str, ev: Evidence) -> Claim:
         parts, ok = [], True
         for name in c["meshes"]:
             mesh = builtin_mesh(name)
-            lit = facing_flags(mesh, growth.standard_light(mesh))[0]
-            S: list[tuple[int, int]] = [] if start == "empty" else [tuple(e) for e in mesh.edges.tolist()]
-            most = 0
-            for a, b in _sides(mesh, np.flatnonzero(lit).tolist()):
-                if (b, a) in S:
-                    pos = S.index((b, a))
-                    most = max(most, pos + 1)
-                    del S[pos]
-                else:
-                    most = max(most, len(S))
-                    S.append((a, b))
+            initial = [] if start == "empty" else [(a, b) for a, b in mesh.edges.tolist()]
+            _, most = _run_s(_lit_sides(mesh), initial, "found")
             ok &= most <= mesh.n_edges
             parts.append(f"{name}: at most {most} compares in one search, e_n = {mesh.n_edges}")
         readings.append(Reading(label, ok, "; ".join(parts)))
