@@ -57,17 +57,28 @@ def fewest_asymptotic(c: dict, source: str) -> Claim:
     )
 
 
+def _leads(c: dict, combo: tuple, w: tuple, first: dict, second: dict) -> list[tuple[str, sp.Expr, sp.Expr]]:
+    """(other, its cost over the winner's at ``first``, at ``second``) for each of ``others``, under ``combo``."""
+    own = [_value(c["winner"], combo[0], w, p) for p in (first, second)]
+    return [
+        (other, *(_value(other, ro, w, p) / v for p, v in zip((first, second), own)))
+        for other, ro in zip(c["others"], combo[1:])
+    ]
+
+
+def _lead_grows(a: sp.Expr, b: sp.Expr) -> bool:
+    """A lead that grows, with the winner ahead (a lead above 1) at the end."""
+    return bool(b > a and b > 1)
+
+
 def _advantage_readings(c: dict, w: tuple, scale: str = "") -> list[Reading]:
     """The winner's lead over each other (their cost over its own) at the two ``advantage_points``: a reading
     holds when every lead grows and the winner is ahead (a lead above 1) at the second point."""
     first, second = c["advantage_points"]
     out = []
     for name, combo in readings_of(c["winner"], *c["others"]):
-        ratios = []
-        for other, ro in zip(c["others"], combo[1:]):
-            pair = [_value(other, ro, w, p) / _value(c["winner"], combo[0], w, p) for p in (first, second)]
-            ratios.append((other, pair))
-        grows = all(b > a and b > 1 for _, (a, b) in ratios)
+        ratios = [(other, (a, b)) for other, a, b in _leads(c, combo, w, first, second)]
+        grows = all(_lead_grows(a, b) for _, (a, b) in ratios)
         shown = "; ".join(
             f"{algo(other)} / {algo(c['winner'])} {float(a):.3f} at (n={first['n']}, m={first['m']}) -> "
             f"{float(b):.3f} at (n={second['n']}, m={second['m']})"
@@ -98,7 +109,7 @@ def common_cost(c: dict, source: str) -> Claim:
     maps a model to the step whose annotation includes it, ``""`` for none; ``cost_of`` names the claim that
     prices it; evaluated at ``point`` with the paper's substitutions), and as needed alike by the algorithms
     (``needed_note``: why each needs it)."""
-    cost = sum(int(v) for k, v in _primitive_entry(c["cost_of"])["cost"].items())
+    cost = sum(int(v) for v in _primitive_entry(c["cost_of"])["cost"].values())
     parts, totals = [], []
     for model, step in c["charged"].items():
         runs = sp.Integer(0) if not step else F.step_runs(model, step)[0]
@@ -122,7 +133,8 @@ def common_cost(c: dict, source: str) -> Claim:
 
 def grows_with_m(c: dict, source: str) -> Claim:
     """``winner`` gets faster as the sides per face grow from ``m_from`` to ``m_to`` at each of ``n_values``: read
-    as its own cycles falling, and as its lead over each other (their cycles over its own) growing; cycle weights."""
+    as its own cycles falling, and as its lead over each other (their cycles over its own) growing, ahead at the
+    end (:func:`_lead_grows`); cycle weights."""
     w = paper_weights()
     readings = []
     for n_ in c["n_values"]:
@@ -137,12 +149,11 @@ def grows_with_m(c: dict, source: str) -> Claim:
                     f"{algo(c['winner'])} {num(own[0])} at m = {lo['m']}, {num(own[1])} at m = {hi['m']}",
                 )
             )
-            for other, ro in zip(c["others"], combo[1:]):
-                a, b = (_value(other, ro, w, p) / v for p, v in zip((lo, hi), own))
+            for other, a, b in _leads(c, combo, w, lo, hi):
                 readings.append(
                     Reading(
                         f"{algo(c['winner'])}'s lead over {algo(other)} grows, {tag}",
-                        bool(b > a),
+                        _lead_grows(a, b),
                         f"{algo(other)} / {algo(c['winner'])} {float(a):.3f} at m = {lo['m']}, {float(b):.3f} at "
                         f"m = {hi['m']}",
                     )
