@@ -28,7 +28,7 @@ from silcount.study import schedule as schedule_mod
 from silcount.study.fits import power_fit
 from silcount.study.subdivide import faces_after, subdivide
 from silcount.study.tables import rows_frame
-from silcount.study.work import Settings, mesh_lights, mesh_record, row_columns, shape_kind
+from silcount.study.work import Settings, interleave, mesh_lights, mesh_record, row_columns, shape_kind
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "schemas" / "corpus.schema.json"
@@ -432,3 +432,23 @@ def test_columnar_rows_give_the_frame_of_one_dict_per_row(units):
     if not expected.empty:
         expected = expected.sort_values(["file", "level", "light"], kind="stable").reset_index(drop=True)
     pd.testing.assert_frame_equal(rows_frame(labels, results), expected, check_exact=True)
+
+
+@settings(max_examples=80, deadline=None)
+@given(data=st.data(), n_lights=st.integers(0, 4), n_runs=st.integers(1, 4))
+def test_interleaved_run_columns_are_the_rows_one_dict_per_row(data, n_lights, n_runs):
+    """A unit's runs kept as columns (:func:`interleave`) give what its rows, light by light and run by run,
+    give through :func:`row_columns`: the same column order, values and ``None`` for a key a row lacks."""
+    keys = ("light", "steps_b", "steps_a", "edges_visited", "steps_c", "total")
+    runs, rows_by_run = [], []
+    for _ in range(n_runs):
+        rows = [
+            {k: data.draw(number) for k in data.draw(st.lists(st.sampled_from(keys), unique=True, min_size=1))}
+            for _ in range(n_lights)
+        ]
+        names = dict.fromkeys(k for row in rows for k in row)
+        cols = {k: [row.get(k) for row in rows] for k in names}
+        runs.append((cols, [tuple(sorted(row)) for row in rows]))
+        rows_by_run.append(rows)
+    rows = [run[i] for i in range(n_lights) for run in rows_by_run]
+    assert interleave(runs, n_lights) == row_columns(rows)

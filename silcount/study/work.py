@@ -185,35 +185,59 @@ def light_record(light: Light) -> dict:
     }
 
 
-def run_records(
+def run_columns(
     results: list[Silhouette], refs: list[Silhouette], settings: Settings, profiles: dict[str, Profile], edges: int
-) -> list[dict]:
-    """One detector's result under each light: edges, agreement with the reference ``refs[i]`` (the same
-    light's), edges visited (of ``edges``), steps, tallies and cycles per model (each profile's
-    :func:`~silcount.counting.cycles.cycles_many` over the lights: the doubles ``Profile.cycles`` gives)."""
-    out = []
-    for res, ref in zip(results, refs, strict=True):
-        visited = res.steps.get(VISITED_STEP.get(res.detector, ""))
-        diff = differences(res.edge_ids, ref.edge_ids)
-        row: dict[str, int | float | None] = {
-            "silhouette_edges": res.n_edges,
-            "missed_edges": diff["missed_edges"],
-            "extra_edges": diff["extra_edges"],
-            "edges_visited": None if visited is None else int(visited),
-            "edges_visited_fraction": None if visited is None else int(visited) / max(edges, 1),
-        }
-        row.update({f"steps_{k}": int(v) for k, v in sorted(res.steps.items())})
-        for model, tally in sorted(res.tally.items()):
-            counts = {k: int(tally.get(k, 0)) for k in KINDS}
-            row.update({f"{model}_{k}": v for k, v in counts.items()})
-            row[f"{model}_total"] = int(sum(counts.values()))
-        out.append(row)
-    for model in sorted(results[0].tally) if results else ():
-        weighed = cycles_many([profiles[p] for p in settings.profiles], [res.tally[model] for res in results])
+) -> dict[str, list]:
+    """One detector's result under each light, as columns (name -> one value per light): edges, agreement
+    with the reference ``refs[i]`` (the same light's), edges visited (of ``edges``), steps, tallies and cycles
+    per model (each profile's :func:`~silcount.counting.cycles.cycles_many` over the lights: the doubles
+    ``Profile.cycles`` gives).  A ``steps_`` column holds ``None`` for a light whose run did not count
+    that step (:func:`row_names`)."""
+    diffs = [differences(res.edge_ids, ref.edge_ids) for res, ref in zip(results, refs, strict=True)]
+    visited = [res.steps.get(VISITED_STEP.get(res.detector, "")) for res in results]
+    cols: dict[str, list] = {
+        "silhouette_edges": [res.n_edges for res in results],
+        "missed_edges": [d["missed_edges"] for d in diffs],
+        "extra_edges": [d["extra_edges"] for d in diffs],
+        "edges_visited": [None if v is None else int(v) for v in visited],
+        "edges_visited_fraction": [None if v is None else int(v) / max(edges, 1) for v in visited],
+    }
+    for step in dict.fromkeys(k for res in results for k in res.steps):
+        cols[f"steps_{step}"] = [int(res.steps[step]) if step in res.steps else None for res in results]
+    tallies = [res.tally for res in results]
+    for model in sorted(tallies[0]) if tallies else ():
+        counts = {k: [int(t[model].get(k, 0)) for t in tallies] for k in KINDS}
+        cols.update({f"{model}_{k}": v for k, v in counts.items()})
+        cols[f"{model}_total"] = [int(sum(c)) for c in zip(*counts.values(), strict=True)]
+        weighed = cycles_many([profiles[p] for p in settings.profiles], [t[model] for t in tallies])
         for p, column in zip(settings.profiles, weighed, strict=True):
-            for row, cycles in zip(out, column.tolist(), strict=True):
-                row[f"{model}_cycles_{p}"] = cycles
+            cols[f"{model}_cycles_{p}"] = column.tolist()
+    return cols
+
+
+def row_names(cols: dict[str, list], results: list[Silhouette]) -> list[tuple[str, ...]]:
+    """Each light's row keys, sorted: the run's ``cols`` but the ``steps_`` its run did not count."""
+    own: dict[tuple[str, ...], tuple[str, ...]] = {}  # by the steps' names: one entry in practice
+    out = []
+    for res in results:
+        steps = tuple(res.steps)
+        if steps not in own:
+            own[steps] = tuple(sorted(k for k in cols if not k.startswith("steps_") or k[6:] in res.steps))
+        out.append(own[steps])
     return out
+
+
+def interleave(runs: list[tuple[dict[str, list], list[tuple[str, ...]]]], n_lights: int) -> dict:
+    """The unit's rows, light by light and each light's runs in order, as :func:`row_columns` gives them.
+
+    ``runs``: each run's columns (one value per light) and each light's own names, sorted (a row's keys);
+    the columns are every row's names in order of first appearance, a name a row lacks read as ``None``.
+    """
+    own = dict.fromkeys(names[i] for i in range(n_lights) for _, names in runs)  # each distinct key list once
+    columns = list(dict.fromkeys(k for names in own for k in names))
+    blank = [None] * n_lights
+    values = [[v for group in zip(*(cols.get(k, blank) for cols, _ in runs)) for v in group] for k in columns]
+    return {"columns": columns, "values": values}
 
 
 def build_record(res: Silhouette) -> dict | None:
@@ -291,24 +315,22 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["lights"] = len(lights)
     record["silhouette_edges_mean"] = float(silhouettes.mean())
     record["silhouette_edges_std"] = float(silhouettes.std())
-    by_run: list[list[dict]] = []
+    lit = [light_record(light) for light in lights]
+    per_light: dict[str, list] = {"light": list(range(len(lights)))}
+    per_light.update({k: [r[k] for r in lit] for k in lit[0]} if lit else {})
+    per_light["reference_edges"] = [int(n) for n in silhouettes]
+    runs: list[tuple[dict[str, list], list[tuple[str, ...]]]] = []
     builds: dict[str, dict] = {}
     for key, name, variant in settings.runs():  # each detector over every light at once (detect_many)
         if name == "reference" and settings.engine == "fast":
             results = refs
         else:
             results = detect_many(mesh, lights, name, variant=variant, engine=settings.engine)
-        runs = []
-        records = run_records(results, refs, settings, profiles, mesh.n_edges)
-        for i, (light, record_i) in enumerate(zip(lights, records, strict=True)):
-            row = {"light": i, **light_record(light), "detector": key, "variant": variant}
-            row["reference_edges"] = int(silhouettes[i])
-            row.update(record_i)
-            runs.append(row)
+        cols = run_columns(results, refs, settings, profiles, mesh.n_edges)
+        cols.update(per_light, detector=[key] * len(lights), variant=[variant] * len(lights))
+        runs.append((cols, row_names(cols, results)))
         if results and (built := build_record(results[0])) is not None:
             builds[key] = built  # light-independent: the first light's
-        by_run.append(runs)
-    rows = [runs[i] for i in range(len(lights)) for runs in by_run]  # light by light, as the report reads them
     record["build"] = builds
     by_kind: dict[str, dict[str, float | None]] = {}
     record["time_errors"] = []
@@ -319,7 +341,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
         record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
     record["time_by_light_kind"] = by_kind
     record["time_per_light_s"] = next(iter(by_kind.values()), {d: None for d in settings.detectors})
-    return {"mesh": record, "rows": row_columns(rows)}
+    return {"mesh": record, "rows": interleave(runs, len(lights))}
 
 
 def row_columns(rows: list[dict]) -> dict:
