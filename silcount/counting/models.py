@@ -8,10 +8,13 @@ imported on the first expression, so loading a detector does not load it).
 
 from __future__ import annotations
 
+import ast
+import operator
 import os
 import tomllib
 from functools import cache
 from importlib.resources import files
+from numbers import Integral
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -21,7 +24,11 @@ if TYPE_CHECKING:
     import sympy as sp
 
 
-# Which model file supplies each detector's ``paper`` cost model by default.
+SYMBOLS = ("n", "f_n", "e_n", "m")
+"""The papers' size symbols."""
+_OPERATORS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul}
+
+
 def models_dir() -> Path:
     """The models directory: the package's data ``silcount/models/`` (``$SILCOUNT_MODELS_DIR`` overrides it).
 
@@ -45,7 +52,7 @@ def symbols() -> dict[str, "sp.Symbol"]:
     """The papers' size symbols ``n``, ``f_n``, ``e_n``, ``m`` (positive)."""
     import sympy as sp
 
-    return {name: sp.Symbol(name, positive=True) for name in ("n", "f_n", "e_n", "m")}
+    return {name: sp.Symbol(name, positive=True) for name in SYMBOLS}
 
 
 def expr(text: str | int) -> "sp.Expr":
@@ -81,4 +88,34 @@ def paper_tally(name: str, steps: dict[str, int], params: dict[str, int | float]
             if not value.is_number:
                 raise ValueError(f"cost of {name}:{step}:{kind} = {cost} needs {value.free_symbols}")
             total[kind] = total.get(kind, 0) + int(count) * int(value)
+    return total
+
+
+def _integer_value(node: ast.expr, values: dict[str, int]) -> int | None:
+    """The value of a cost text's syntax tree made of integers, ``+``, ``-``, ``*`` and symbols with integer
+    ``values``; ``None`` for anything else."""
+    if isinstance(node, ast.Constant) and type(node.value) is int:
+        return node.value
+    if isinstance(node, ast.Name):
+        return values.get(node.id)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+        inner = _integer_value(node.operand, values)
+        return None if inner is None else -inner
+    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATORS:
+        left, right = _integer_value(node.left, values), _integer_value(node.right, values)
+        return None if left is None or right is None else _OPERATORS[type(node.op)](left, right)
+    return None
+
+
+def unit_cost(name: str, step: str, params: dict[str, int | float]) -> dict[str, int]:
+    """:func:`paper_tally` of one run of ``step``: without sympy where every cost of the step is an integer
+    polynomial of integer ``params`` (integers, ``+``, ``-``, ``*``: the exact integers sympy gives; every
+    cost in silcount/models/ is a sum of integers or ``e_n``), else by :func:`paper_tally` itself."""
+    values = {k: int(v) for k, v in params.items() if k in SYMBOLS and isinstance(v, Integral) and v is not True}
+    total: dict[str, int] = {k: 0 for k in KINDS}
+    for kind, text in load(name).get("steps", {}).get(step, {}).get("cost", {}).items():
+        value = _integer_value(ast.parse(str(text), mode="eval").body, values)
+        if value is None:
+            return paper_tally(name, {step: 1}, params)
+        total[kind] = total.get(kind, 0) + value
     return total

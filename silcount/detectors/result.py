@@ -2,7 +2,8 @@
 
 The ``paper`` tally is ``sum(steps x annotated cost)`` from ``silcount/models/``
 (:func:`silcount.counting.models.paper_tally`), memoised per (model, mesh
-parameters, step) so that sympy runs once per key; the ``true`` tally is what
+parameters, step) and evaluated once per key (:func:`silcount.counting.models.unit_cost`, without sympy
+for the models' integer costs); the ``true`` tally is what
 the detector's engine observed or charged.  How the edges differ from the
 reference silhouette is computed only when asked for (:attr:`Silhouette.agreement`,
 :func:`compare_with_reference`, :func:`differences`): a detection never runs a
@@ -138,8 +139,8 @@ def compare_with_reference(mesh: Mesh, light: Light, edge_ids: np.ndarray) -> di
 
 @cache
 def _units(model: str, params: tuple[tuple[str, float], ...]) -> dict[str, tuple[tuple[str, int], ...]]:
-    """The ``paper`` cost of one run of each step at ``params``, filled in as steps are asked for (sympy runs
-    once per model, parameters and step)."""
+    """The ``paper`` cost of one run of each step at ``params``, filled in as steps are asked for (one
+    :func:`silcount.counting.models.unit_cost` per model, parameters and step)."""
     return {}
 
 
@@ -150,7 +151,7 @@ def paper_tally(model: str, steps: dict[str, int], params: dict[str, float]) -> 
     for step, count in steps.items():
         unit = units.get(step)
         if unit is None:
-            unit = units[step] = tuple(models.paper_tally(model, {step: 1}, params).items())
+            unit = units[step] = tuple(models.unit_cost(model, step, params).items())
         for kind, c in unit:
             total[kind] = total.get(kind, 0) + int(count) * c
     return total
