@@ -111,7 +111,8 @@ def unit_cost(name: str, step: str, params: dict[str, int | float]) -> dict[str,
     """:func:`paper_tally` of one run of ``step``: without sympy where every cost of the step is an integer
     polynomial of integer ``params`` (integers, ``+``, ``-``, ``*``: the exact integers sympy gives; every
     cost in silcount/models/ is a sum of integers or ``e_n``), else by :func:`paper_tally` itself."""
-    values = {k: int(v) for k, v in params.items() if k in SYMBOLS and isinstance(v, Integral) and v is not True}
+    whole = {k: v for k, v in params.items() if k in SYMBOLS and isinstance(v, Integral) and not isinstance(v, bool)}
+    values = {k: int(v) for k, v in whole.items()}
     total: dict[str, int] = {k: 0 for k in KINDS}
     for kind, text in load(name).get("steps", {}).get(step, {}).get("cost", {}).items():
         value = _integer_value(ast.parse(str(text), mode="eval").body, values)

@@ -334,9 +334,9 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["build"] = builds
     by_kind: dict[str, dict[str, float | None]] = {}
     record["time_errors"] = []
-    kinds = list(dict.fromkeys(light_record(light)["light_kind"] for light in lights))
+    kinds = list(dict.fromkeys(r["light_kind"] for r in lit))
     for kind in kinds:
-        same = [light for light in lights if light_record(light)["light_kind"] == kind]
+        same = [light for light, r in zip(lights, lit, strict=True) if r["light_kind"] == kind]
         by_kind[kind], errors = time_per_light(mesh, same, settings)
         record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
     record["time_by_light_kind"] = by_kind
