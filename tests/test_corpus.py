@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import shutil
 from pathlib import Path
 
@@ -242,6 +243,22 @@ def test_process_workers_are_handed_one_unit_at_a_time(folder):
         result = corpus([folder], cache=False, **{**SMALL, "scheduler": "processes", "workers": 2})
     assert len(in_flight) == 4 and max(in_flight) <= 2, in_flight
     assert result.document == corpus([folder], cache=False, **SMALL).document
+
+
+def test_the_process_pool_spawns_all_its_workers_at_once():
+    # started on creation (before Dask's import), not on the first unit's submission; spawned, never forked
+    import multiprocessing
+
+    before = set(multiprocessing.active_children())
+    pool = schedule_mod.process_pool(2)
+    try:
+        started = [p for p in multiprocessing.active_children() if p not in before]
+        assert len(started) == 2 and {type(p).__name__ for p in started} == {"SpawnProcess"}
+        pids = {pool.submit(os.getpid).result() for _ in range(8)}
+        assert pids <= {p.pid for p in started} and os.getpid() not in pids
+    finally:
+        pool.shutdown()
+
 
 def test_cli_outputs_and_exit_codes(folder, tmp_path, capsys):
     from silcount.cli.main import main
