@@ -377,6 +377,20 @@ def test_gorman_ratio_cited_as_a_survey(by_key):
     assert c.verdict == FAILS and "does not name Gorman" in c.reason and "Wang" in c.rederived
 
 
+def test_mesh_ratios_are_judged_one_ratio_at_a_time(by_key):
+    """V/F = 2 is F/V inverted, but E/V = 3 is what closed triangle meshes approach (E = 3V - 6 + 6g, so the
+    torus has exactly 3): the reason says which ratio fails, and mentions edges only where the claim prints them."""
+    from silcount.mesh.shapes import builtin_mesh
+
+    torus = builtin_mesh("torus")
+    assert torus.n_edges == 3 * torus.n_vertices and 2 * torus.n_vertices == torus.n_faces
+    both, alone = by_key["eesd-gorman-ratio"], by_key["hsd-gorman-ratio"]
+    assert both.verdict == alone.verdict == FAILS
+    assert "V/F = 2 fits no closed triangle mesh" in both.reason and "E/V = 3 is right" in both.reason
+    assert "V/F = 2 fits no closed triangle mesh" in alone.reason and "E/V" not in alone.reason
+    assert "12-gons" in both.reason and "12-gons" not in alone.reason
+
+
 def test_citations_to_unrelated_entries(by_key):
     """(4) HSD [16] motion control; HSD [15, 17] crowd rendering and VR realism for culling (AMBIGUOUS: crowd
     rendering optimisation may treat culling, its title does not say); EESD [19] crowd simulation; EESD [6]."""

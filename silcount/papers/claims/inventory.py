@@ -66,11 +66,12 @@ def _euler_rows():
 
 
 def mesh_ratio(c: dict, source: str, ev: Evidence) -> Claim:
+    """The printed vertices (and edges) per face against Euler's formula and the built-in closed meshes."""
     vpf, epf = c["vertices_per_face"], c.get("edges_per_face")
     rows = _euler_rows()
     measured = "; ".join(f"{name}: V/F = {V / Fc:.3f}, E/F = {E / Fc:.3f}" for name, V, Fc, E in rows)
     g = sp.Symbol("g")
-    parts = []
+    parts, why = [], []
     if epf is not None:
         genus = sp.solve(sp.Eq(vpf - epf + 1, (2 - 2 * g) / F.n), g)[0]
         parts.append(
@@ -79,6 +80,14 @@ def mesh_ratio(c: dict, source: str, ev: Evidence) -> Claim:
         )
     parts.append("closed triangle meshes have E/F = 3/2 and V/F -> 1/2 (2E = 3F and V - E + F = 2 - 2g)")
     ok = all(abs(V / Fc - vpf) < 0.1 * vpf for _, V, Fc, _ in rows)
+    if not ok:
+        why.append(f"V/F = {vpf} fits no closed triangle mesh" + (" (it is F/V inverted)" if vpf == 2 else ""))
+    if epf is not None:
+        evv = sp.Rational(epf) / sp.Rational(vpf)
+        if evv == 3:
+            why.append("E/V = 3 is right: closed triangle meshes approach it (E = 3V - 6 + 6g)")
+        if not ok:
+            why.append(f"with E = {epf}n only a polygon mesh of {2 * epf}-gons of genus {sp.sstr(genus)} has both")
     return claim_from_data(
         c,
         source,
@@ -86,8 +95,9 @@ def mesh_ratio(c: dict, source: str, ev: Evidence) -> Claim:
         rederived="; ".join(parts),
         measured=measured,
         verdict=HOLDS if ok else FAILS,
-        reason="Euler's formula: the printed ratios fit no closed triangle mesh (V/F = 2 is F/V inverted) and, "
-        "with E = 6n, only a polygon mesh of 12-gons of genus about 1.5n; the built-in closed meshes agree.",
+        reason="Euler's formula: "
+        + ("; ".join(why) if why else f"closed triangle meshes have V/F near {vpf}")
+        + "; the built-in closed meshes agree.",
     )
 
 
