@@ -310,6 +310,7 @@ FOLLOWS = {
     "eesd-vnv-visibility": "eesd-normal",  # VnV's copy of the visibility annotation
     "hsd-visibility": "hsd-normal",  # the HSD paper's own sum of the same costs
     "eesd-step4": "eesd-pseudocode",  # the Sec. 3.3 loops written as a sum
+    "hsd-vnv-ray-from-eye": "hsd-ta-ray-from-eye",  # the facing test's ray from the eye, said again for VnV
 }
 
 
@@ -607,6 +608,16 @@ def test_culling_the_faces_turned_from_the_light_culls_faces_the_eye_sees(by_key
     assert c.verdict == FAILS
     assert "quad_cube, eye opposite the light: 3 of 3 faces turned to the eye are culled" in c.rederived
     assert "quad_cube, eye at the light: 0 of 3" in c.rederived
+
+
+def test_a_facing_test_from_the_eye_finds_another_silhouette(by_key):
+    # by hand: the cube lit from the (+, +, +) octant has the hexagon of edges between its +x, +y, +z and -x, -y, -z
+    # faces; an eye beside the light, (0, +s, -s) from the centre, faces +y and -z alone, and their outline (3 + 3
+    # edges) shares two of the hexagon's: (+y, -x) and (-z, +x)
+    c = by_key["hsd-ta-ray-from-eye"]
+    assert c.verdict == FAILS and by_key["hsd-vnv-ray-from-eye"].follows_from == "hsd-ta-ray-from-eye"
+    assert "quad_cube, eye beside the light: 4 of the light's 6 silhouette edges missed, 4 others found" in c.rederived
+    assert "quad_cube, eye at the light: 0 of the light's 6 silhouette edges missed, 0 others found" in c.rederived
 
 
 def test_extending_an_edge_and_the_ray_to_its_end_have_several_computations(by_key):

@@ -1,8 +1,8 @@
 """The facing test's small facts: faces with one normal, the sign of the paper's D_i, the silhouette product,
 culling by the light.
 
-HSD paper Sec. V ("all same normal vectors have same status") and Sec. VIII
-(culling the faces turned from the light); EESD paper Sec. 2 (D_i and
+HSD paper Sec. V ("all same normal vectors have same status"), Sec. VI (the facing test's "ray from eyes point
+of view") and Sec. VIII (culling the faces turned from the light); EESD paper Sec. 2 (D_i and
 ||v, f||, the product of the two faces' signs, the "ridge edges").  Each verdict is decided by
 sympy or by evaluating the test, never typed.
 """
@@ -15,6 +15,7 @@ import numpy as np
 import sympy as sp
 
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
+from silcount.detectors.result import differences
 from silcount.mesh.lights import PointLight
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth
@@ -121,6 +122,43 @@ def light_culling(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def facing_viewpoint(c: dict, source: str, ev: Evidence) -> Claim:
+    """'To determine a face p is visible or not a ray from eyes point of view is needed' (HSD Sec. VI 6.1, 6.2),
+    for the silhouette a shadow volume is extruded from: on built-in meshes, the light's silhouette against the
+    edges a facing test from the eye finds, for an eye at silcount's standard light (the HSD paper's Sec. V example:
+    'the light source is located in the viewer point of eyes') and for an eye beside it (as far from the mesh's
+    centre, a right angle away)."""
+    parts, differ = [], 0
+    for name in c["meshes"]:
+        mesh = builtin_mesh(name)
+        light = growth.standard_light(mesh)
+        want = silhouette_edge_ids(mesh, light)
+        offset = np.asarray(light.position, dtype=float) - mesh.centre
+        axis = np.eye(3)[int(np.argmin(np.abs(offset)))]  # the axis least along the offset
+        side = np.cross(offset, axis)
+        side *= np.linalg.norm(offset) / np.linalg.norm(side)
+        for label, eye_offset in (("at the light", offset), ("beside the light", side)):
+            got = differences(silhouette_edge_ids(mesh, PointLight(tuple(mesh.centre + eye_offset))), want)
+            if label != "at the light":
+                differ += got["disagreement_with_reference"]
+            parts.append(
+                f"{name}, eye {label}: {got['missed_edges']} of the light's {want.size} silhouette edges missed, "
+                f"{got['extra_edges']} others found"
+            )
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="; ".join(parts),
+        measured=None,
+        verdict=FAILS if differ else HOLDS,
+        reason="a shadow volume is extruded from the light's silhouette (the paper's own definition, Sec. III: one "
+        "face 'toward the light', one away; and its own costing of the same test, lines 181 and 201: 'a ray from "
+        "light source to the plan'). A facing test from the eye finds the view's silhouette: the same edges only "
+        "when the eye is at the light, where no shadow can be seen.",
+    )
+
+
 def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
     """The EESD paper's categories (Sec. 2): 'ridge edges ... one visible plane face and one invisible plane face',
     against the silhouette's 'visible edges which connect the back faces to the front faces' and against the
@@ -163,6 +201,7 @@ def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 RULES = {
+    "facing_viewpoint": facing_viewpoint,
     "ridge_definition": ridge_definition,
     "light_culling": light_culling,
     "coplanar": coplanar,
