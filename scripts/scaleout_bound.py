@@ -1,8 +1,9 @@
 """The scale-out bound of the corpus sweep on this machine: two workers against one, measured inside the workers.
 
-    python scripts/scaleout_bound.py [CORPUS_DIR] [--repeat 3]
+    python scripts/scaleout_bound.py [CORPUS_DIR] [--repeat 3] [--subdivide 0]
 
-The sweep of ``scripts/bench_corpus.py`` (the shared corpus, level 0, 64 directional lights, every detector,
+The sweep of ``scripts/bench_corpus.py`` (the shared corpus, level 0 or ``--subdivide``'s levels, 64 directional
+lights, every detector,
 ``intended``, ``fast``, no plain-loop timing, no cache) runs at ``1x1`` (one worker on one numba thread) and at
 ``2`` (two workers, one thread each: the sweep's rule on two cores), ``--repeat`` times interleaved, each run
 in a fresh process.  Every worker records each unit's start and end: under the ``spawn`` context this script
@@ -53,7 +54,7 @@ if LOG:  # in the measured sweep's client and, re-imported as the main module, i
 CONFIGS = ("1x1", "2")
 
 
-def one(folder: Path, workers: int) -> dict:
+def one(folder: Path, workers: int, levels: list[int]) -> dict:
     """One sweep in this process: its start and end on the wall clock."""
     from silcount.study import corpus
 
@@ -62,7 +63,7 @@ def one(folder: Path, workers: int) -> dict:
         [folder],
         lights=64,
         light_kind="directional",
-        subdivide=[0],
+        subdivide=levels,
         scheduler="processes",
         workers=workers,
         cache=False,
@@ -72,14 +73,14 @@ def one(folder: Path, workers: int) -> dict:
     return {"start": start, "end": time.time()}
 
 
-def run(folder: Path, config: str) -> dict:
+def run(folder: Path, config: str, levels: str) -> dict:
     """``config`` in a fresh process: wall, lead, tail, busy, and each worker's unit count."""
     workers, _, threads = config.partition("x")
     with tempfile.TemporaryDirectory() as log:
         env = {**os.environ, "SILCOUNT_BOUND_LOG": log}
         if threads:
             env["NUMBA_NUM_THREADS"] = threads
-        cmd = [sys.executable, __file__, str(folder), "--one", workers]
+        cmd = [sys.executable, __file__, str(folder), "--one", workers, "--subdivide", levels]
         out = subprocess.run(cmd, capture_output=True, text=True, env=env)
         if out.returncode:
             sys.exit(f"{config}: the sweep failed:\n{out.stderr}")
@@ -105,17 +106,19 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--subdivide", default="0", help="levels, as bench_corpus.py's (default 0)")
     ap.add_argument("--one", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     folder = corpus_dir(args.folder)
     if args.one is not None:
-        print(json.dumps(one(folder, args.one)))
+        print(json.dumps(one(folder, args.one, [int(v) for v in args.subdivide.split(",")])))
         return
-    print(f"corpus {folder}, level 0, 64 directional lights, every detector; load {os.getloadavg()[0]:.1f}")
+    load = os.getloadavg()[0]
+    print(f"corpus {folder}, levels {args.subdivide}, 64 directional lights, every detector; load {load:.1f}")
     runs: dict[str, list[dict]] = {c: [] for c in CONFIGS}
     for r in range(args.repeat):
         for config in CONFIGS:
-            got = run(folder, config)
+            got = run(folder, config, args.subdivide)
             runs[config].append(got)
             print(
                 f"run {r + 1} {config:>3}: wall {got['wall']:.2f} s = lead {got['lead']:.2f} + busy {got['busy']:.2f}"
