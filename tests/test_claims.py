@@ -7,6 +7,7 @@ sums in the comments), not read back from silcount's own output.
 from __future__ import annotations
 
 import json
+import math
 import shutil
 from pathlib import Path
 
@@ -618,6 +619,16 @@ def test_a_facing_test_from_the_eye_finds_another_silhouette(by_key):
     assert c.verdict == FAILS and by_key["hsd-vnv-ray-from-eye"].follows_from == "hsd-ta-ray-from-eye"
     assert "quad_cube, eye beside the light: 4 of the light's 6 silhouette edges missed, 4 others found" in c.rederived
     assert "quad_cube, eye at the light: 0 of the light's 6 silhouette edges missed, 0 others found" in c.rederived
+
+
+def test_the_printed_specular_term_is_blinns_not_phongs(by_key):
+    # by hand: the eye along N and the light 40 degrees off it: R.V = cos 40 degrees, and H halves the angle
+    # between L and V, so N.H = cos 20 degrees; at the mirror direction both terms are 1
+    c = by_key["stencil-phong-specular"]
+    phong, blinn = math.cos(math.radians(40)) ** 10, math.cos(math.radians(20)) ** 10
+    assert c.verdict == FAILS and "Blinn" in c.reason
+    assert f"eye along N: (R.V)^n = {phong:.4f}, (N.H)^n = {blinn:.4f}" in c.rederived
+    assert "(R.V)^n = 1.0000, (N.H)^n = 1.0000" in c.rederived
 
 
 def test_extending_an_edge_and_the_ray_to_its_end_have_several_computations(by_key):

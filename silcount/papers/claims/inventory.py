@@ -294,6 +294,41 @@ def phong(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def phong_specular(c: dict, source: str, ev: Evidence) -> Claim:
+    """'illumination models that Phong proposed ... I_s = I_l K_s (N.H)^n', H 'between lighting vector and the
+    viewing vector' (Stencil paper Sec. 5): Phong's own specular term (1975) is (R.V)^n, R = 2 (N.L) N - L the
+    light's mirror direction; (N.H)^n with the halfway vector is Blinn's (1977).  Both evaluated with the eye at the
+    mirror direction, and with the eye along the normal and the light ``angle`` degrees off it, at ``exponent``."""
+    N = sp.Matrix([0, 0, 1])
+    t = sp.rad(c["angle"])
+    L = sp.Matrix([sp.sin(t), 0, sp.cos(t)])
+    R = 2 * N.dot(L) * N - L
+    k = int(c["exponent"])
+
+    def terms(V: sp.Matrix) -> tuple[float, float]:
+        H = (L + V) / (L + V).norm()
+        return float(R.dot(V) ** k), float(N.dot(H) ** k)
+
+    mirror, along = terms(R), terms(N)
+    differ = abs(along[0] - along[1]) > 1e-9
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived=f"N = (0, 0, 1), the light {c['angle']} degrees off N, n = {k}: eye at the mirror direction R: "
+        f"(R.V)^n = {mirror[0]:.4f}, (N.H)^n = {mirror[1]:.4f}; eye along N: (R.V)^n = {along[0]:.4f}, "
+        f"(N.H)^n = {along[1]:.4f}",
+        measured=None,
+        verdict=FAILS if differ else HOLDS,
+        reason="Phong (1975) wrote the specular term with the light's mirror direction R: (R.V)^n. The printed "
+        "(N.H)^n, with the halfway vector the paper itself defines ('between lighting vector and the viewing "
+        "vector'), is Blinn's 1977 form, now called Blinn-Phong: the two agree at the mirror direction and differ "
+        "around it (Blinn's exponent is about 4n for the same highlight)."
+        if differ
+        else "",
+    )
+
+
 def definition_scope(c: dict, source: str, ev: Evidence) -> Claim:
     """A count defined per face ("e_n is number of all edges in face f": ``per_face``, the paper's m) against
     what the model's sums substitute for it."""
@@ -335,6 +370,7 @@ def self_definition(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 RULES = {
+    "phong_specular": phong_specular,
     "self_definition": self_definition,
     "definition_scope": definition_scope,
     "kernel_cost": kernel_cost,
