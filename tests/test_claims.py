@@ -334,6 +334,12 @@ def test_restated_slips_name_the_claim_they_follow_from(all_claims, by_key):
     assert "of them independent errata" in findings(all_claims)
 
 
+def test_the_organisation_paragraph_is_itself_in_the_related_works(by_key):
+    # it stands after the heading "II. PREVIOUS WORKS", so its "next section" is III, the silhouette's definition
+    c = by_key["hsd-organisation-related"]
+    assert c.verdict == FAILS and "numbers it 2, not 3" in c.reason
+
+
 def test_organisation_paragraph_numbers_the_conclusion_wrongly(by_key):
     """Issue 24, 4(1): HSD's organisation paragraph puts the conclusion in 'section 8'; its heading is IX."""
     c = by_key["hsd-organisation-conclusion"]
