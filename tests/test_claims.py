@@ -245,13 +245,26 @@ def test_the_intersection_reading_is_the_one_the_tables_charge(by_key):
         per_test = primitives.kernel_cost(name).get("mul", 0)
         fits[primitives.KERNELS[name][1]] = all(6 * n * (3 + n * per_test) == v for (n, _), v in cells_mul.items())
     assert fits == {
-        "aR_x+bR_y+cR_z+d = 0 for a point R": True,
+        primitives.KERNELS["point_in_plane"][1]: True,  # the printed test, which tests a point (below)
         "does the ray x0 + t d, t > 0, cross the plane": False,
         primitives.KERNELS["ray_triangle"][1]: False,  # 27 Mult a test: 6n (3 + 27n) = 16380 at n = 10
     }
     c = by_key["eesd-intersection"]
     assert c.verdict == claims.AMBIGUOUS and "plane-equation" in c.table_reading and "1980" in c.table_reading
     assert "4380" in c.table_reading  # 6n (3 + 7n) at n = 10
+
+
+def test_the_printed_plane_test_asks_about_a_point_not_the_ray(by_key):
+    # by hand, the face (0,0,0), (1,0,0), (0,1,0) in z = 0 and rays towards -z: from (0.25, 0.25, 1) the ray meets
+    # the face at t = 1 while R's plane equation gives 1 (the printed test: no); (2, 2, 0) gives 0 (the printed
+    # test: yes) and its ray misses the face
+    c = by_key["eesd-plane-test-logic"]
+    assert c.verdict == claims.FAILS
+    above, outside = c.rederived.split("; R = ")
+    assert "= 1, so the printed test says no intersection; the ray crosses the plane at t = 1" in above
+    assert above.endswith("it meets the face: yes")
+    assert "= 0, so the printed test says intersected; the ray starts on the plane (t = 0)" in outside
+    assert outside.endswith("it meets the face: no")
 
 
 def test_the_hsd_side_loop_reading_reaches_every_claim_judged_under_it(by_key):

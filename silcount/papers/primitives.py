@@ -142,7 +142,11 @@ KERNELS = {
     "edge_inverse_signed": (_kernel_edge_inverse_signed, "e -> -e: signed edge ids (twin = -e), one multiply by -1"),
     "cross_product": (_kernel_cross_product, "e1 x e2 of two stored edge vectors"),
     "light_ray_parametric": (_kernel_light_ray_parametric, "a point L + t (p0 - L) of the ray"),
-    "point_in_plane": (_kernel_point_in_plane, "aR_x+bR_y+cR_z+d = 0 for a point R"),
+    "point_in_plane": (
+        _kernel_point_in_plane,
+        "aR_x+bR_y+cR_z+d = 0 for a point R (the paper's own test, line 353: whether R lies on the plane, not "
+        "whether the ray meets it: eesd-plane-test-logic)",
+    ),
     "ray_plane": (_kernel_ray_plane, "does the ray x0 + t d, t > 0, cross the plane"),
     "ray_triangle": (
         _kernel_ray_triangle,

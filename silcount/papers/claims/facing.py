@@ -1,9 +1,9 @@
 """The facing test's small facts: faces with one normal, the sign of the paper's D_i, the silhouette product,
-culling by the light.
+culling by the light, the eye or the light as the test's origin; and EESD's ray-plane test as printed.
 
 HSD paper Sec. V ("all same normal vectors have same status"), Sec. VI (the facing test's "ray from eyes point
-of view") and Sec. VIII (culling the faces turned from the light); EESD paper Sec. 2 (D_i and
-||v, f||, the product of the two faces' signs, the "ridge edges").  Each verdict is decided by
+of view") and Sec. VIII (culling the faces turned from the light); EESD paper Sec. 2 (D_i and ||v, f||, the
+product of the two faces' signs, the "ridge edges") and Sec. 5.3 (its plane test).  Each verdict is decided by
 sympy or by evaluating the test, never typed.
 """
 
@@ -17,6 +17,7 @@ import sympy as sp
 from silcount.detectors.adjacency import facing_flags, silhouette_edge_ids
 from silcount.detectors.result import differences
 from silcount.mesh.lights import PointLight
+from silcount.mesh.raytrace import moller_trumbore
 from silcount.mesh.shapes import builtin_mesh
 from silcount.papers import growth
 from silcount.papers.claims.base import FAILS, HOLDS, Claim, Reading, claim_from_data, judged_by_readings
@@ -159,6 +160,45 @@ def facing_viewpoint(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def plane_test(c: dict, source: str, ev: Evidence) -> Claim:
+    """'If the equation of plane is ax+by+cz+d=0 then if aR_x+bR_y+cR_z+d=0 then the ray intersected the plane'
+    (EESD Sec. 5.3, the pseudo-code's Intersection(R, f)), against the ray's own crossing of the plane and its
+    meeting the face (silcount's tracer, Moller-Trumbore, ``t > 0``), on two rays by hand towards -z and the face
+    (0, 0, 0), (1, 0, 0), (0, 1, 0) in the plane z = 0 (a = b = d = 0, c = 1): one from a point above the face,
+    one from a point of the plane outside it."""
+    tri = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    a, b, cz, d = 0.0, 0.0, 1.0, 0.0
+    down = (0.0, 0.0, -1.0)
+    parts, wrong = [], 0
+    for label, R in (("above the face", (0.25, 0.25, 1.0)), ("on the plane, outside the face", (2.0, 2.0, 0.0))):
+        value = a * R[0] + b * R[1] + cz * R[2] + d
+        t = -value / (a * down[0] + b * down[1] + cz * down[2])  # where the ray's line meets the plane
+        face = bool(moller_trumbore(*R, *down, *tri.ravel(), 0.0, np.inf)[0])  # type: ignore[call-arg]  # numba
+        printed = value == 0.0
+        wrong += printed != face  # the pseudo-code asks Intersection(R, f): the face
+        crossing = f"crosses the plane at t = {t:g}" if t > 0.0 else "starts on the plane (t = 0)"
+        parts.append(
+            f"R = {R} {label}: aR_x+bR_y+cR_z+d = {value:g}, so the printed test says "
+            f"{'intersected' if printed else 'no intersection'}; the ray {crossing}; "
+            f"it meets the face: {'yes' if face else 'no'}"
+        )
+    return claim_from_data(
+        c,
+        source,
+        "algorithm",
+        rederived="; ".join(parts),
+        measured=None,
+        verdict=FAILS if wrong else HOLDS,
+        reason="the printed test puts one point of the ray in the plane equation: it asks whether R lies on the "
+        "plane, not whether the ray meets the plane or the face. A ray from a point off the plane that crosses "
+        "it, and the face, is answered 'no'; a point of the plane outside the face is answered 'yes'. Putting "
+        "the ray itself in the equation gives t = -(n.R + d) / (n.dir), a division and a test of t (the "
+        "'ray crossing' reading of the test's cost), and the face needs more (Moller-Trumbore)."
+        if wrong
+        else "",
+    )
+
+
 def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
     """The EESD paper's categories (Sec. 2): 'ridge edges ... one visible plane face and one invisible plane face',
     against the silhouette's 'visible edges which connect the back faces to the front faces' and against the
@@ -202,6 +242,7 @@ def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
 
 RULES = {
     "facing_viewpoint": facing_viewpoint,
+    "plane_test": plane_test,
     "ridge_definition": ridge_definition,
     "light_culling": light_culling,
     "coplanar": coplanar,
