@@ -100,8 +100,7 @@ def run(folder: Path, config: str, levels: str) -> dict:
 
 
 def main() -> None:
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from bench_corpus import corpus_dir
+    from bench_corpus import corpus_dir  # this script's folder is on the path when it runs
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?")
