@@ -267,6 +267,17 @@ def test_the_printed_plane_test_asks_about_a_point_not_the_ray(by_key):
     assert outside.endswith("it meets the face: no")
 
 
+def test_the_printed_distance_is_one_only_for_a_unit_normal(by_key):
+    # by hand: the face (0,0,0), (2,0,0), (0,2,0) has the edge cross product (2,0,0) x (0,2,0) = (0,0,4); the point
+    # (0,0,1) is 1 from its plane, and (v - f_v) . (0,0,4) = 4
+    c = by_key["eesd-distance"]
+    assert c.verdict == claims.AMBIGUOUS
+    assert [(r.holds, r.outcome) for r in c.readings] == [
+        (False, "(v - f_v) . n_f = 4, the distance 1"),
+        (True, "(v - f_v) . n_f = 1"),
+    ]
+
+
 def test_the_hsd_side_loop_reading_reaches_every_claim_judged_under_it(by_key):
     text = models.load("hsd2011-hsd")["table_reading"]
     for key in ("hsd2011-hsd annotations -> line 1", "hsd2011-hsd closed form vs re-derived", "hsd-decreased-by-one"):

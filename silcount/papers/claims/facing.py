@@ -78,6 +78,39 @@ def facing_sign(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def signed_distance(c: dict, source: str, ev: Evidence) -> Claim:
+    """'The distance between v and f is ||v, f|| = (v - f_v) . n_f', with 'n_f is normal vector of f' (EESD
+    Sec. 2), against the point-plane distance, on a face by hand: (0, 0, 0), (2, 0, 0), (0, 2, 0) and v = (0, 0, 1),
+    with n_f as the paper computes a normal (a cross product of two edges, Sec. 5.1's '3Adds and 3Muls': no
+    square root or division, so not a unit vector) and as a unit normal."""
+    corners = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
+    v = np.array([0.0, 0.0, 1.0])
+    cross = np.cross(corners[1] - corners[0], corners[2] - corners[0])
+    unit = cross / np.linalg.norm(cross)
+    distance = float(abs((v - corners[0]) @ unit))  # the point-plane distance
+    readings = [
+        Reading(
+            f"n_f as the paper computes it, the cross product {tuple(cross.tolist())}",
+            bool(np.isclose((v - corners[0]) @ cross, distance)),
+            f"(v - f_v) . n_f = {float((v - corners[0]) @ cross):g}, the distance {distance:g}",
+        ),
+        Reading(
+            "n_f a unit normal",
+            bool(np.isclose((v - corners[0]) @ unit, distance)),
+            f"(v - f_v) . n_f = {float((v - corners[0]) @ unit):g}",
+        ),
+    ]
+    return judged_by_readings(
+        c,
+        source,
+        "algorithm",
+        readings,
+        "(v - f_v) . n_f is the signed distance only for a unit n_f; the paper's normal is a cross product it "
+        "never normalises, so its value is the distance times |n_f| (twice the face's area here). Its sign, "
+        "which is all the facing test uses, is right either way.",
+    )
+
+
 def silhouette_product(c: dict, source: str, ev: Evidence) -> Claim:
     ok = all(
         ((s1 * s2) < 0) == ((s1 > 0) != (s2 > 0)) for s1, s2 in itertools.product((-2.0, -0.5, 0.5, 3.0), repeat=2)
@@ -241,6 +274,7 @@ def ridge_definition(c: dict, source: str, ev: Evidence) -> Claim:
 
 
 RULES = {
+    "signed_distance": signed_distance,
     "facing_viewpoint": facing_viewpoint,
     "plane_test": plane_test,
     "ridge_definition": ridge_definition,
