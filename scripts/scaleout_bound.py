@@ -2,13 +2,12 @@
 
     python scripts/scaleout_bound.py [CORPUS_DIR] [--repeat 3] [--subdivide 0]
 
-The sweep of ``scripts/bench_corpus.py`` (the shared corpus, level 0 or ``--subdivide``'s levels, 64 directional
-lights, every detector,
-``intended``, ``fast``, no plain-loop timing, no cache) runs at ``1x1`` (one worker on one numba thread) and at
-``2`` (two workers, one thread each: the sweep's rule on two cores), ``--repeat`` times interleaved, each run
-in a fresh process.  Every worker records each unit's start and end: under the ``spawn`` context this script
-is the workers' main module, so its top level, which wraps ``silcount.study.schedule.audit_task`` when
-``SILCOUNT_BOUND_LOG`` names a folder, runs in each of them.
+The sweep of ``scripts/bench_corpus.py`` (its ``one``: the shared corpus, level 0 or ``--subdivide``'s levels,
+64 directional lights, every detector, ``intended``, ``fast``, no plain-loop timing, no cache) runs at ``1x1``
+(one worker on one numba thread) and at ``2`` (two workers, one thread each: the sweep's rule on two cores),
+``--repeat`` times interleaved, each run in a fresh process.  Every worker records each unit's start and end:
+under the ``spawn`` context this script is the workers' main module, so its top level, which wraps
+``silcount.study.schedule.audit_task`` when ``SILCOUNT_BOUND_LOG`` names a folder, runs in each of them.
 
 From each run:
 
@@ -54,25 +53,6 @@ if LOG:  # in the measured sweep's client and, re-imported as the main module, i
 CONFIGS = ("1x1", "2")
 
 
-def one(folder: Path, workers: int, levels: list[int]) -> dict:
-    """One sweep in this process: its start and end on the wall clock."""
-    from silcount.study import corpus
-
-    start = time.time()
-    corpus(
-        [folder],
-        lights=64,
-        light_kind="directional",
-        subdivide=levels,
-        scheduler="processes",
-        workers=workers,
-        cache=False,
-        timing=False,
-        quiet=True,
-    )
-    return {"start": start, "end": time.time()}
-
-
 def run(folder: Path, config: str, levels: str) -> dict:
     """``config`` in a fresh process: wall, lead, tail, busy, and each worker's unit count."""
     workers, _, threads = config.partition("x")
@@ -84,23 +64,24 @@ def run(folder: Path, config: str, levels: str) -> dict:
         out = subprocess.run(cmd, capture_output=True, text=True, env=env)
         if out.returncode:
             sys.exit(f"{config}: the sweep failed:\n{out.stderr}")
-        clock = json.loads(out.stdout.strip().splitlines()[-1])
+        sweep = json.loads(out.stdout.strip().splitlines()[-1])
         units = {
             f.stem: [tuple(float(x) for x in line.split()) for line in f.read_text().splitlines()]
             for f in Path(log).glob("*.txt")
         }
     spans = [s for per in units.values() for s in per]
+    start, wall = sweep["start_epoch"], sweep["wall_s"]
     return {
-        "wall": clock["end"] - clock["start"],
-        "lead": min(a for a, _ in spans) - clock["start"],
-        "tail": clock["end"] - max(b for _, b in spans),
+        "wall": wall,
+        "lead": min(a for a, _ in spans) - start,
+        "tail": start + wall - max(b for _, b in spans),
         "busy": sum(b - a for a, b in spans),
         "units": sorted(len(per) for per in units.values()),
     }
 
 
 def main() -> None:
-    from bench_corpus import corpus_dir  # this script's folder is on the path when it runs
+    from bench_corpus import corpus_dir, one  # this script's folder is on the path when it runs
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?")
@@ -110,7 +91,7 @@ def main() -> None:
     args = ap.parse_args()
     folder = corpus_dir(args.folder)
     if args.one is not None:
-        print(json.dumps(one(folder, args.one, [int(v) for v in args.subdivide.split(",")])))
+        print(json.dumps(one(folder, args.one, [int(v) for v in args.subdivide.split(",")], False)))
         return
     load = os.getloadavg()[0]
     print(f"corpus {folder}, levels {args.subdivide}, 64 directional lights, every detector; load {load:.1f}")

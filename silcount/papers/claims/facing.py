@@ -87,17 +87,16 @@ def signed_distance(c: dict, source: str, ev: Evidence) -> Claim:
     v = np.array([0.0, 0.0, 1.0])
     cross = np.cross(corners[1] - corners[0], corners[2] - corners[0])
     unit = cross / np.linalg.norm(cross)
-    distance = float(abs((v - corners[0]) @ unit))  # the point-plane distance
+    printed = {"cross": float((v - corners[0]) @ cross), "unit": float((v - corners[0]) @ unit)}
+    distance = abs(printed["unit"])  # the point-plane distance
     readings = [
         Reading(
             f"n_f as the paper computes it, the cross product {tuple(cross.tolist())}",
-            bool(np.isclose((v - corners[0]) @ cross, distance)),
-            f"(v - f_v) . n_f = {float((v - corners[0]) @ cross):g}, the distance {distance:g}",
+            bool(np.isclose(printed["cross"], distance)),
+            f"(v - f_v) . n_f = {printed['cross']:g}, the distance {distance:g}",
         ),
         Reading(
-            "n_f a unit normal",
-            bool(np.isclose((v - corners[0]) @ unit, distance)),
-            f"(v - f_v) . n_f = {float((v - corners[0]) @ unit):g}",
+            "n_f a unit normal", bool(np.isclose(printed["unit"], distance)), f"(v - f_v) . n_f = {printed['unit']:g}"
         ),
     ]
     return judged_by_readings(
@@ -210,6 +209,8 @@ def plane_test(c: dict, source: str, ev: Evidence) -> Claim:
         printed = value == 0.0
         wrong += printed != face  # the pseudo-code asks Intersection(R, f): the face
         crossing = f"crosses the plane at t = {t:g}" if t > 0.0 else "starts on the plane (t = 0)"
+        if t < 0.0:
+            crossing = "points away from the plane"
         parts.append(
             f"R = {R} {label}: aR_x+bR_y+cR_z+d = {value:g}, so the printed test says "
             f"{'intersected' if printed else 'no intersection'}; the ray {crossing}; "
