@@ -12,6 +12,8 @@ rasteriser that checks the shadows they produce.
 
 The names below are loaded on first use (PEP 562), so ``import silcount``
 costs nothing heavy; each lives in the subpackage named beside it.
+Detectors are added with ``silcount.register_detector(silcount.DetectorSpec(...))`` or by an installed
+package's entry point in the group ``silcount.detectors`` (``docs/extending.md``), found on first use.
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
 (:mod:`silcount.study`).
@@ -39,7 +41,10 @@ _LAZY: dict[str, str] = {
     "shapes": "silcount.mesh",
     "detect_many": "silcount.detectors",
     "corpus": "silcount.study",
+    "DetectorSpec": "silcount.detectors.spec",
+    "register_detector": "silcount.detectors.registry",
 }
+_LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
 
 # public functions defined by another name in their module
 _RENAMED: dict[str, tuple[str, str]] = {
@@ -49,6 +54,8 @@ _RENAMED: dict[str, tuple[str, str]] = {
 
 if TYPE_CHECKING:
     from silcount.detectors import DETECTORS, Silhouette, detect, detect_many
+    from silcount.detectors.registry import register_detector
+    from silcount.detectors.spec import DetectorSpec
     from silcount.mesh import shapes
     from silcount.mesh.io import load_mesh
     from silcount.mesh.lights import DirectionalLight, PointLight
@@ -67,7 +74,8 @@ def __getattr__(name: str) -> Any:
     else:
         raise AttributeError(f"module 'silcount' has no attribute {name!r}")
     value = getattr(importlib.import_module(module), attr)
-    globals()[name] = value
+    if name not in _LIVE:
+        globals()[name] = value
     return value
 
 
@@ -80,6 +88,8 @@ __all__ = [
     "Silhouette",
     "detect",
     "detect_many",
+    "DetectorSpec",
+    "register_detector",
     "claims",
     "tables",
     "corpus",

@@ -77,23 +77,23 @@ def test_differences_are_the_set_differences(found, reference):
     assert got == {"missed_edges": missed, "extra_edges": extra, "disagreement_with_reference": missed + extra}
 
 
-def test_every_detector_module_declares_itself_and_its_paper_model_annotates_it():
+def test_every_built_in_declares_itself_and_its_paper_model_annotates_it():
     from silcount.counting import models
-    from silcount.detectors import DETECTORS, LABELS, MODULES, PAPER_MODEL, REGISTRY
+    from silcount.detectors import DETECTORS, builtin, registry
 
     assert DETECTORS == ("reference", "ta", "vnv", "hsd", "eesd", "gaussmap", "cones")
-    for m in MODULES:
-        assert REGISTRY[m.NAME] is m.detect and LABELS[m.NAME] == m.LABEL
-        assert models.load(PAPER_MODEL[m.NAME])["algorithm"] == m.NAME  # the file annotates this detector
-        res = m.detect(silcount.builtin_mesh("tetrahedron"), DirectionalLight((0.2, 0.3, 1.0)))
-        assert res.paper_model == m.PAPER_MODEL and res.detector == m.NAME
-        assert callable(m.plain_edge_ids) and isinstance(m.PLAIN_QUADRATIC, bool)
+    for spec in builtin.SPECS:
+        assert registry.get(spec.name) is spec and registry.source_of(spec.name) == "built-in"
+        assert models.load(spec.paper_model)["algorithm"] == spec.name  # the file annotates this detector
+        res = spec.detect(silcount.builtin_mesh("tetrahedron"), DirectionalLight((0.2, 0.3, 1.0)))
+        assert res.paper_model == spec.paper_model and res.detector == spec.name
+        assert callable(spec.plain_edge_ids) and spec.missing == ()
 
 
-def test_the_tables_read_from_the_modules_name_the_papers_and_their_quadratic_loops():
+def test_the_registry_names_the_papers_and_their_quadratic_loops():
     # Independent of the modules' declarations: the papers' four (HSD paper Sec. 4, EESD paper Sec. 3),
     # and the two whose printed loops run over every (edge, face) pair (VnV's, EESD's).
-    from silcount.detectors import LITERATURE, PAPERS, PLAIN_QUADRATIC
+    from silcount.detectors import specs, with_role
 
-    assert PAPERS == ("ta", "vnv", "hsd", "eesd") and LITERATURE == ("gaussmap", "cones")
-    assert PLAIN_QUADRATIC == ("vnv", "eesd")
+    assert with_role("paper") == ("ta", "vnv", "hsd", "eesd") and with_role("literature") == ("gaussmap", "cones")
+    assert tuple(s.name for s in specs() if s.plain_quadratic) == ("vnv", "eesd")

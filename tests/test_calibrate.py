@@ -97,7 +97,7 @@ def test_measure_smoke_structure(tmp_path):
 def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
     meshes = [("icosphere", builtin_mesh("icosphere0")), ("icosphere", builtin_mesh("icosphere1"))]
     times = timing.timings(meshes, n_lights=1, repeats=1)
-    assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 2 * len(timing.TIMED)
+    assert list(times.columns) == ["mesh", "detector", "light", "seconds"] and len(times) == 2 * len(timing.timed())
     cal = calibrate(meshes, times, "test", "test", n_lights=1)
     paths = output.write(cal, tmp_path, with_timings=True, figures=False)
     names = {p.name for p in paths}
@@ -108,11 +108,11 @@ def test_tiny_live_calibration_writes_valid_outputs(tmp_path):
     assert list(csv.columns) == list(cal.summary.columns) and len(csv) == len(cal.summary)
     assert doc["summary_large"] == []  # icosphere0 and 1 are below LARGE_FACES
     # the papers' four are fitted; gaussmap and cones are predicted with that fit, reported apart
-    assert doc["samples"] == 2 * len(timing.ALGORITHMS) and set(cal.samples["detector"]) == set(timing.ALGORITHMS)
+    assert doc["samples"] == 2 * len(timing.algorithms()) and set(cal.samples["detector"]) == set(timing.algorithms())
     lit = doc["literature"]
-    assert lit["detectors"] == list(timing.LITERATURE) and lit["samples"] == 2 * len(timing.LITERATURE)
+    assert lit["detectors"] == list(timing.literature()) and lit["samples"] == 2 * len(timing.literature())
     assert {(r["model"], r["detector"]) for r in lit["summary"]} == {
-        (m, d) for m in timing.MODELS for d in timing.LITERATURE
+        (m, d) for m in timing.MODELS for d in timing.literature()
     }
     assert [r["mesh"] for r in lit["per_mesh"]] == ["icosphere0", "icosphere1"]
     assert len(pd.read_csv(tmp_path / "timings.csv")) == len(times)  # every timed sample, to reuse with --timings
@@ -134,7 +134,7 @@ def test_the_literature_does_not_move_the_four():
 def test_committed_like_timings_with_the_literature_keep_the_fours_numbers():
     meshes = [("icosphere", builtin_mesh("icosphere0")), ("icosphere", builtin_mesh("icosphere1"))]
     times = timing.timings(meshes, n_lights=1, repeats=1)
-    four = times[times["detector"].isin(timing.ALGORITHMS)]
+    four = times[times["detector"].isin(timing.algorithms())]
     with_lit, without = calibrate(meshes, times, "t", "t", n_lights=1), calibrate(meshes, four, "t", "t", n_lights=1)
     for table in ("samples", "predictions", "per_mesh", "summary", "summary_large"):
         pd.testing.assert_frame_equal(getattr(with_lit, table), getattr(without, table))
@@ -171,7 +171,7 @@ def test_committed_report_validates_and_is_deterministic(committed, tmp_path):
     assert output.figure(again, "true", tmp_path / "b.png").read_bytes() == a
     doc = json.loads(output.to_json(committed))
     jsonschema.validate(doc, SCHEMA)
-    assert doc["samples"] == len(timing.SERIES) * len(timing.ALGORITHMS) * timing.LIGHTS
+    assert doc["samples"] == len(timing.SERIES) * len(timing.algorithms()) * timing.LIGHTS
     assert {r["profile"] for r in doc["summary"]} >= {"paper", "unit", "skylake-latency", "znver3-throughput"}
     assert {r["model"] for r in doc["summary_large"]} == {"paper", "true"}
 
@@ -180,7 +180,7 @@ def test_ranking_evidence(committed):
     ev = ranking_evidence(committed)
     assert set(ev["meshes"]) == set(timing.SERIES)
     for entry in ev["meshes"].values():
-        assert sorted(entry["measured_order"]) == sorted(timing.ALGORITHMS)
+        assert sorted(entry["measured_order"]) == sorted(timing.algorithms())
         assert entry["measured_fastest"] == min(entry["measured_seconds"], key=entry["measured_seconds"].get)
         for model in ("paper", "true"):
             for verdict in entry["predicted"][model].values():

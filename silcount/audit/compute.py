@@ -43,13 +43,13 @@ Decisions, named:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, variants_of
+from silcount.detectors import Silhouette, detect_many, differences, get, names, variants_of
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -66,7 +66,7 @@ LIGHT_DISTANCE = 3.0
 class AuditSettings:
     """What to run: detectors, variants (``intended``/``literal``), engine, cycle profile."""
 
-    detectors: tuple[str, ...] = DETECTORS
+    detectors: tuple[str, ...] = field(default_factory=names)  # every registered detector
     variants: tuple[str, ...] = ("intended",)
     engine: str = "fast"
     cycles: str = "paper"
@@ -130,11 +130,26 @@ def _light_checks(mesh: Mesh, light: Light, ties: int, index: int) -> tuple[dict
 
 
 def _runs(settings: AuditSettings) -> list[tuple[str, str, str]]:
-    """(key, detector, variant) for every requested run; ``reference``, ``gaussmap`` and ``cones`` have one variant."""
+    """(key, detector, variant) for every requested run; ``reference``, ``gaussmap`` and ``cones`` have one variant,
+    a detector without the requested engine no run (:func:`missing_parts` says so)."""
     out = []
     for name in settings.detectors:
+        if settings.engine not in get(name).engines:
+            continue
         for variant in variants_of(name, settings.variants):
             out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+    return out
+
+
+def missing_parts(settings: AuditSettings) -> list[str]:
+    """One warning per requested detector that lacks a part this audit uses: the engine, the paper cost model."""
+    out = []
+    for name in settings.detectors:
+        spec = get(name)
+        if settings.engine not in spec.engines:
+            out.append(f"detector {name}: no {settings.engine} engine, left out of this audit")
+        elif spec.paper_model is None:
+            out.append(f"detector {name}: no paper cost model, its paper columns are empty")
     return out
 
 
@@ -259,16 +274,17 @@ def _with_ratios(entry: dict, profile: tuple[str, dict], lights: int) -> None:
 def run_audit(
     mesh: Mesh,
     lights: list[Light],
-    settings: AuditSettings = AuditSettings(),
+    settings: AuditSettings | None = None,
     source: str | None = None,
     quiet: bool = False,
 ) -> dict:
     """Audit ``mesh`` under each light with each requested detector; see the module docstring."""
     if not lights:
         lights = random_lights(mesh)
+    settings = settings or AuditSettings()
     profile = cycle_profile(settings.cycles)
     stats = mesh_statistics(mesh)
-    warnings = list(mesh.load_warnings) + mesh_warnings(stats)
+    warnings = list(mesh.load_warnings) + mesh_warnings(stats) + missing_parts(settings)
     runs = _runs(settings)
     per_light = []
     with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:

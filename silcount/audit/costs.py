@@ -44,10 +44,12 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     ``m`` the mean sides per face; ``None`` for ``reference``, ``gaussmap`` and ``cones`` (their models
     are silcount's own annotation, with no printed closed form).
     """
-    from silcount.detectors import PAPER_MODEL
+    from silcount.detectors import get
     from silcount.papers import formulas  # sympy: only when a formula is asked for
 
-    model = PAPER_MODEL[detector]
+    model = get(detector).paper_model
+    if model is None:
+        return None
     spec = models.load(model)
     if "closed_form" not in spec:
         return None

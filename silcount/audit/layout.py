@@ -46,7 +46,7 @@ def table(header: list[str], rows: list[list[str]], markdown: bool) -> list[str]
 
 
 def _kinds(entries: list[dict], model: str) -> list[str]:
-    extra = sorted({k for e in entries for k in e["tallies"][model] if k not in KINDS})
+    extra = sorted({k for e in entries for k in e["tallies"].get(model, {}) if k not in KINDS})
     return list(KINDS) + extra
 
 
@@ -57,13 +57,14 @@ def _detector_table(detectors: dict, model: str, markdown: bool) -> list[str]:
     rows = []
     for key, d in detectors.items():
         printed = d["formula_printed"]
+        tally = d["tallies"].get(model)  # none: the detector has no such model (the warnings say so)
         rows.append(
             [
                 key,
                 fmt(d["silhouette_edges"]),
                 fmt(d["agrees_with_reference"]),
-                *(fmt(d["tallies"][model].get(k, 0)) for k in kinds),
-                fmt(d["cycles"][model]),
+                *(fmt(tally.get(k, 0)) if tally is not None else "" for k in kinds),
+                fmt(d["cycles"][model]) if tally is not None else "",
                 fmt(printed["cycles"]) if printed else "-",
                 fmt(printed["cycles_ratio"][model]) if printed else "-",
                 fmt(d["time_s"]),

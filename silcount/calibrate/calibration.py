@@ -10,7 +10,7 @@ bytes on every run; a live ``silcount calibrate`` times afresh.
 Two fits are reported: over every sample, and over the meshes of at least
 :data:`LARGE_FACES` faces only (refitted), where the loops, not the set-up, take the time.
 Both are the papers' four algorithms' alone; the literature's detectors
-(:data:`~silcount.calibrate.timing.LITERATURE`), when the timings time them,
+(:func:`~silcount.calibrate.timing.literature`), when the timings time them,
 are predicted with the first fit's scales and reported apart.
 """
 
@@ -82,9 +82,9 @@ def calibrate(
 ) -> Calibration:
     """Predict ``times`` (one row per mesh, detector, light) from the tallies of ``meshes`` under every profile."""
     profiles = builtin_profiles() if profiles is None else profiles
-    lit = tuple(d for d in timing.LITERATURE if d in set(times["detector"]))
-    every = timing.samples(timing.tallies(meshes, n_lights, show, timing.ALGORITHMS + lit), times)
-    papers = every["detector"].isin(timing.ALGORITHMS)
+    lit = tuple(d for d in timing.literature() if d in set(times["detector"]))
+    every = timing.samples(timing.tallies(meshes, n_lights, show, timing.algorithms() + lit), times)
+    papers = every["detector"].isin(timing.algorithms())
     samples = every[papers].reset_index(drop=True)
     lit_samples = every[~papers].reset_index(drop=True)
     pred = predict.weighted(samples, profiles)
@@ -115,7 +115,7 @@ def measured_per_mesh(samples: pd.DataFrame) -> pd.DataFrame:
     """One row per mesh: faces, then each detector's measured seconds summed over the lights, and their order."""
     sums = samples.groupby(["mesh", "detector"], sort=False)["seconds"].sum().unstack("detector")
     sums = sums.reindex(samples["mesh"].unique())  # unstack sorts by name: back to the samples' order (by size)
-    dets = [d for d in timing.TIMED if d in sums.columns]
+    dets = [d for d in timing.timed() if d in sums.columns]
     faces = samples.drop_duplicates("mesh").set_index("mesh")["faces"]
     out = sums[dets].rename(columns=lambda d: f"{d}_s")
     out.insert(0, "faces", faces.loc[out.index].astype(int))

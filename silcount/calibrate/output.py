@@ -18,8 +18,8 @@ import pandas as pd
 
 from silcount.atomic import atomic_path, write_text
 from silcount.calibrate.calibration import LARGE_FACES, Calibration
-from silcount.calibrate.timing import LITERATURE, MODELS, TIMED
-from silcount.detectors import STYLES
+from silcount.calibrate.timing import MODELS, literature, timed
+from silcount.detectors import specs
 
 SCHEMA = "silcount-calibrate/1"
 DIGITS = 4
@@ -59,7 +59,7 @@ def to_json(cal: Calibration) -> str:
         "within": _records(cal.within),
         "within_large": _records(cal.within_large),
         "literature": {
-            "detectors": sorted(set(cal.literature_samples["detector"]), key=TIMED.index),
+            "detectors": sorted(set(cal.literature_samples["detector"]), key=timed().index),
             "samples": len(cal.literature_samples),
             "summary": _records(cal.literature),
             "per_mesh": _records(cal.literature_meshes),
@@ -133,7 +133,7 @@ def within_table(within: pd.DataFrame) -> pd.DataFrame:
     if within.empty:
         return pd.DataFrame(columns=["model", "profile"])
     wide = within.pivot_table(index=["model", "profile"], columns="detector", values="r2", sort=False, dropna=False)
-    order = [d for d in TIMED if d in wide.columns]
+    order = [d for d in timed() if d in wide.columns]
     return rounded(wide[order].rename(columns=lambda d: f"r2 {d}").reset_index())
 
 
@@ -168,7 +168,7 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colours = {name: colour for name, (colour, _) in STYLES.items()}  # the literature (x): the four's scale, not fitted
+    colours = {s.name: s.style[0] for s in specs()}  # the literature (x): the four's scale, not fitted
     lit = cal.literature_predictions
     pred = pd.concat([cal.predictions, lit]) if len(lit) else cal.predictions
     pred = pred[pred["model"] == model]
@@ -183,7 +183,7 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
             for det, colour in colours.items():
                 d = sub[sub["detector"] == det]
                 if len(d):
-                    fitted = det not in LITERATURE
+                    fitted = det not in literature()
                     ax.scatter(d["seconds"], d["predicted"], s=12, color=colour, marker="o" if fitted else "x",
                                label=det if fitted else f"{det} (not fitted)")  # fmt: skip
             ax.plot([lo, hi], [lo, hi], color="#888888", lw=0.8)

@@ -9,7 +9,7 @@ mesh and light, under both cost models (``paper`` and ``true``).
 
 The algorithms are the papers' four (TA, VnV, HSD, EESD); the ``reference``
 rule is not one of them (its plain form is numpy, not a loop).  Beside them,
-:data:`LITERATURE` (``gaussmap``, ``cones``): their time is their per-light
+:func:`literature` (``gaussmap``, ``cones``): their time is their per-light
 query, the fast engine's compiled traversal on the tree cached with the mesh,
 on one numba thread (:func:`silcount.detectors.hierarchy_query.plain_query`; the warm-up
 call builds the tree, so the build is not timed, as HSD's merge is not), and
@@ -27,19 +27,37 @@ import numpy as np
 import pandas as pd
 
 from silcount.counting.cycles import TRUE_KINDS
-from silcount.detectors import LITERATURE, PAPERS, detect, plain_edge_ids
+from silcount.detectors import detect, plain_edge_ids, specs
 from silcount.errors import BadArgument, UnreadableInput
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh
 from silcount.mesh.shapes import builtin_mesh
 from silcount.progress import progress
 
-ALGORITHMS = PAPERS
-TIMED = ALGORITHMS + LITERATURE  # a live run times these; the fit is the ALGORITHMS' alone (calibrate.calibration)
 SERIES = tuple(f"icosphere{k}" for k in range(5))
 LIGHTS = 4
 MODELS = ("paper", "true")
 KEY = ["mesh", "detector", "light"]
+
+
+def _calibrated(role: str) -> tuple[str, ...]:
+    """The registered detectors of ``role`` that can be calibrated: they have plain loops and a paper model."""
+    return tuple(s.name for s in specs() if s.role == role and s.plain_edge_ids is not None and s.paper_model)
+
+
+def algorithms() -> tuple[str, ...]:
+    """The papers' detectors, whose timings the per-operation weights are fitted to (calibrate.calibration)."""
+    return _calibrated("paper")
+
+
+def literature() -> tuple[str, ...]:
+    """The literature's detectors: timed and predicted on the papers' scale, not fitted."""
+    return _calibrated("literature")
+
+
+def timed() -> tuple[str, ...]:
+    """What a live run times: :func:`algorithms`, then :func:`literature`."""
+    return algorithms() + literature()
 
 
 def lights(mesh: Mesh, count: int = LIGHTS, seed: int = 0) -> list[PointLight]:
@@ -83,9 +101,11 @@ def tallies(
     meshes: list[tuple[str, Mesh]],
     n_lights: int = LIGHTS,
     show: bool | None = False,
-    detectors: tuple[str, ...] = ALGORITHMS,
+    detectors: tuple[str, ...] | None = None,
 ) -> pd.DataFrame:
-    """One row per (mesh, detector, light): sizes and the ``paper_<kind>`` / ``true_<kind>`` counts."""
+    """One row per (mesh, detector, light): sizes and the ``paper_<kind>`` / ``true_<kind>`` counts (detectors:
+    :func:`algorithms` unless given)."""
+    detectors = algorithms() if detectors is None else detectors
     rows = []
     bar = progress(len(meshes) * len(detectors), "tallies", show)
     for group, mesh in meshes:
@@ -110,9 +130,11 @@ def timings(
     n_lights: int = LIGHTS,
     repeats: int = 3,
     show: bool | None = False,
-    detectors: tuple[str, ...] = TIMED,
+    detectors: tuple[str, ...] | None = None,
 ) -> pd.DataFrame:
-    """One row per (mesh, detector, light): ``seconds``, the best of ``repeats`` plain runs."""
+    """One row per (mesh, detector, light): ``seconds``, the best of ``repeats`` plain runs (detectors:
+    :func:`timed` unless given)."""
+    detectors = timed() if detectors is None else detectors
     rows = []
     bar = progress(len(meshes) * len(detectors), "timing", show)
     for _, mesh in meshes:

@@ -19,8 +19,8 @@ import numpy as np
 from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
 from silcount.audit.costs import cycle_profile
 from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
-from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, check_choice
+from silcount.detectors import get, names
+from silcount.errors import BadArgument
 from silcount.mesh import shapes
 from silcount.mesh.io import load_mesh, parse_size
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -62,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--detectors",
         default=None,
         metavar="LIST",
-        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all)",
+        help="comma-separated detector names (default: every registered one)",
     )
     parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
     parser.add_argument("--engine", choices=("fast", "naive"), default="fast")
@@ -125,11 +125,11 @@ def explicit_lights(args: argparse.Namespace) -> list[Light]:
 
 def settings_from(args: argparse.Namespace) -> AuditSettings:
     if args.detectors is None:
-        chosen = DETECTORS
+        chosen = names()
     else:
         chosen = tuple(d.strip() for d in args.detectors.split(",") if d.strip())
         for d in chosen:
-            check_choice("detector", d, DETECTORS, prefix="--detectors: ")
+            get(d, prefix="--detectors: ")
         if not chosen:
             raise BadArgument("--detectors: the list is empty")
     variants = ("intended", "literal") if args.variant == "both" else (args.variant,)

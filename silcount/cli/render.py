@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.atomic import write_text
-from silcount.detectors import DETECTORS, LITERATURE
+from silcount.detectors import get, names
 from silcount.errors import BadArgument, SilcountError
 from silcount.render.builtin import BUILTIN, builtin_scene
 from silcount.render.masks import compare_masks, write_mask, write_png
@@ -47,9 +47,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--method", choices=METHODS, required=True, help="how to compute the mask")
     parser.add_argument(
         "--detector",
-        choices=DETECTORS,
         default="reference",
-        help="silhouette detector for zpass/zfail (default: reference)",
+        metavar="NAME",
+        help="silhouette detector for zpass/zfail, any registered one (default: reference)",
     )
     parser.add_argument(
         "--variant",
@@ -91,6 +91,7 @@ def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, i
 
 
 def run(args: argparse.Namespace) -> int:
+    get(args.detector, prefix="--detector: ")  # checked here, not by argparse: the registry fills on first use
     for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
         _check_out(path, flag)
     scene = load_scene(args.scene)
@@ -175,9 +176,9 @@ def _render_scene(scene: Scene, dest: Path, written: list[Path]) -> dict:
             r = render_method(scene, "planar", variant=variant)
             written += write_outputs(scene, r, dest / f"{name}.planar-{variant}.png", None, None)
             entry["methods"][f"planar-{variant}"] = _entry(r.mask, truth.mask, floor)
-    for det in DETECTORS:
-        # gaussmap and cones have one variant (a literal run would repeat it); reference keeps its literal row
-        for variant in ("intended",) if det in LITERATURE else ("intended", "literal"):
+    for det in names():
+        # the literature's hierarchies have one variant (a literal run would repeat it); the others keep a literal row
+        for variant in ("intended",) if get(det).role == "literature" else ("intended", "literal"):
             key = f"{det}-{variant}"
             try:
                 r = render_method(scene, "zfail", det, variant)

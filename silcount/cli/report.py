@@ -30,7 +30,7 @@ from silcount.audit.layout import format_audit, write_atomic
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
-from silcount.detectors import DETECTORS
+from silcount.detectors import names
 from silcount.errors import BadArgument, SilcountError
 from silcount.mesh import shapes
 
@@ -55,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def audit_one(out_dir: Path, name: str) -> list[Path]:
     """Audit built-in mesh ``name`` into ``out_dir/audit/<name>.md`` and ``.json``; returns the paths."""
-    settings = AuditSettings(detectors=DETECTORS, variants=("intended", "literal"), with_time=False)
+    settings = AuditSettings(detectors=names(), variants=("intended", "literal"), with_time=False)
     mesh = shapes.builtin_mesh(name)
     audit = run_audit(mesh, random_lights(mesh), settings, source=f"built-in {name}", quiet=True)
     written = []

@@ -41,8 +41,9 @@ def models_dir() -> Path:
 
 @cache
 def load(name: str) -> dict:
-    """The parsed TOML of ``silcount/models/<name>.toml``."""
-    path = models_dir() / f"{name}.toml"
+    """The parsed TOML of ``silcount/models/<name>.toml``, or of the file ``name`` if it ends in ``.toml``
+    (a plug-in detector's own model, :class:`silcount.detectors.spec.DetectorSpec`)."""
+    path = Path(name) if name.endswith(".toml") else models_dir() / f"{name}.toml"
     with open(path, "rb") as fh:
         return tomllib.load(fh)
 

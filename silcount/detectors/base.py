@@ -21,14 +21,12 @@ import numpy as np
 
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
 from silcount.detectors.result import EngineRun, Silhouette
+from silcount.detectors.spec import ENGINES, VARIANTS
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh, from_polygons
 
 T = TypeVar("T")
 R = TypeVar("R")
-
-VARIANTS = ("intended", "literal")
-ENGINES = ("fast", "naive")
 
 
 class MeshMemory:
@@ -160,7 +158,7 @@ def make_silhouette(
     variant: str,
     engine: str,
     run: EngineRun,
-    paper_model: str,
+    paper_model: str | None,
     paper_params: dict[str, float] | None = None,
     orient: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> Silhouette:

@@ -47,18 +47,12 @@ from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
 from silcount.detectors.morton import counted_octahedral, interleave3, octahedral, plane_sum
 from silcount.detectors.result import Silhouette
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "cones"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "normal cones"
+NAME = "cones"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "silcount-cones"
-ONE_VARIANT = True
-LITERATURE = True
-VISITED_STEP = "edge_test"
-PLAIN_QUADRATIC = False
-GROWTH_VARIANT = "intended"
-STYLE = ("#e07a1f", "v")  # colour, marker in figures
 BITS = 8  # per coordinate of the 3-D key: two of normal direction, one of offset
 QUANT = float((1 << BITS) - 1)  # an offset's cell: [0, QUANT]
 QUANT_N = QUANT / 2.0  # a direction's: (p + 1) * QUANT_N in [0, QUANT] for p in [-1, 1]
@@ -180,3 +174,19 @@ def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
     :func:`.hierarchy_query.plain_query`; ascending edge ids."""
     return plain_query(mesh, SCHEME, light)
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="normal cones",
+    detect=detect,
+    role="literature",
+    paper_model=PAPER_MODEL,
+    variants=("intended",),
+    engines=("fast", "naive"),
+    visited_step="edge_test",
+    plain_edge_ids=plain_edge_ids,
+    plain_setup=plain_setup,
+    growth_variant="intended",
+    style=("#e07a1f", "v"),
+)

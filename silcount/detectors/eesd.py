@@ -147,19 +147,13 @@ from silcount.detectors.eesd_rays import (
 )
 from silcount.detectors.onplane import zeros_per_point
 from silcount.detectors.result import Silhouette
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.parallel_rays import lines_any_hit
 
-NAME = "eesd"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "EESD"
+NAME = "eesd"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "eesd2012-eesd"
-ONE_VARIANT = False
-LITERATURE = False
-VISITED_STEP = "extend"
-PLAIN_QUADRATIC = True
-GROWTH_VARIANT = "literal"
-STYLE = ("#2e933c", "o")  # colour, marker in figures
 
 # ---------------------------------------------------------------- engines
 
@@ -322,6 +316,23 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
             for i, got in zip(which, _fast_intended(mesh, [lights[i] for i in which]), strict=True):
                 out[i] = _silhouette(mesh, lights[i], variant, "fast", *got)
     return out  # type: ignore[return-value]
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="EESD",
+    detect=detect,
+    role="paper",
+    paper_model=PAPER_MODEL,
+    variants=("intended", "literal"),
+    engines=("fast", "naive"),
+    visited_step="extend",
+    plain_edge_ids=plain_edge_ids,
+    plain_quadratic=True,
+    growth_variant="literal",
+    style=("#2e933c", "o"),
+    detect_many=detect_many,
+)
 
 
 __all__ = [

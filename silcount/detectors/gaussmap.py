@@ -46,18 +46,12 @@ from silcount.detectors.hierarchy_query import detect as detect_with
 from silcount.detectors.hierarchy_query import plain_query, tree_for
 from silcount.detectors.morton import counted_octahedral, interleave2, octahedral, plane_sum
 from silcount.detectors.result import Silhouette
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "gaussmap"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "Gauss map"
+NAME = "gaussmap"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "silcount-gaussmap"
-ONE_VARIANT = True
-LITERATURE = True
-VISITED_STEP = "edge_test"
-PLAIN_QUADRATIC = False
-GROWTH_VARIANT = "intended"
-STYLE = ("#7b4ea3", "^")  # colour, marker in figures
 BITS = 12  # per axis of the octahedral map
 QUANT = float((1 << BITS) - 1) / 2.0  # (q + 1) * QUANT lies in [0, 2**12 - 1] for q in [-1, 1]
 
@@ -123,3 +117,19 @@ def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
     :func:`.hierarchy_query.plain_query`; ascending edge ids."""
     return plain_query(mesh, SCHEME, light)
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="Gauss map",
+    detect=detect,
+    role="literature",
+    paper_model=PAPER_MODEL,
+    variants=("intended",),
+    engines=("fast", "naive"),
+    visited_step="edge_test",
+    plain_edge_ids=plain_edge_ids,
+    plain_setup=plain_setup,
+    growth_variant="intended",
+    style=("#7b4ea3", "^"),
+)

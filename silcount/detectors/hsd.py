@@ -54,20 +54,14 @@ from silcount.detectors.edge_array import (
     side_keys,
 )
 from silcount.detectors.result import Silhouette
+from silcount.detectors.spec import DetectorSpec
 from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
 from silcount.mesh.coplanar import Merge, merge
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "hsd"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "HSD"
+NAME = "hsd"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "hsd2011-hsd"
-ONE_VARIANT = False
-LITERATURE = False
-VISITED_STEP = "search_S"
-PLAIN_QUADRATIC = False
-GROWTH_VARIANT = "intended"
-STYLE = ("#edae49", "o")  # colour, marker in figures
 CRITERION = {"intended": "tight", "literal": "facets"}
 REPRESENTATIVE_COST = {"read": 1}  # rep[p]
 
@@ -172,3 +166,20 @@ def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     sides = mg.poly_sides
     facing = facing_flags(mesh, light, mg.rep)[0]
     return plain_array_s(mesh, mg.poly_start, mesh.side_from[sides], mesh.side_to[sides], facing)
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="HSD",
+    detect=detect,
+    role="paper",
+    paper_model=PAPER_MODEL,
+    variants=("intended", "literal"),
+    engines=("fast", "naive"),
+    visited_step="search_S",
+    plain_edge_ids=plain_edge_ids,
+    plain_setup=plain_setup,
+    growth_variant="intended",
+    style=("#edae49", "o"),
+    detect_many=detect_many,
+)

@@ -42,18 +42,12 @@ from silcount.detectors.base import (
     make_silhouette,
     visibility_true_cost,
 )
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "reference"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "reference"
+NAME = "reference"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "silcount-reference"
-ONE_VARIANT = True
-LITERATURE = False
-VISITED_STEP = "edge_test"
-PLAIN_QUADRATIC = False
-GROWTH_VARIANT = "intended"
-STYLE = ("#555555", "s")  # colour, marker in figures
 
 
 def _naive(mesh: Mesh, light: Light) -> EngineRun:
@@ -122,3 +116,19 @@ def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> l
         run = EngineRun(ids, steps, true, ties, flags)
         out.append(make_silhouette(mesh, light, NAME, variant, "fast", run, PAPER_MODEL))
     return out
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="reference",
+    detect=detect,
+    role="yardstick",
+    paper_model=PAPER_MODEL,
+    variants=("intended",),
+    engines=("fast", "naive"),
+    visited_step="edge_test",
+    plain_edge_ids=plain_edge_ids,
+    growth_variant="intended",
+    style=("#555555", "s"),
+    detect_many=detect_many,
+)

@@ -62,7 +62,7 @@ class Silhouette:
     edge_ids: np.ndarray  # (k,) ids into mesh.edges, ascending
     steps: dict[str, int]  # how many times each named step ran
     true_tally: dict[str, int]  # the ``true`` cost model: kind -> count, as observed
-    paper_model: str  # the silcount/models/ file whose per-line costs give the ``paper`` cost model
+    paper_model: str | None  # the cost model file whose per-line costs give the ``paper`` cost model, if any
     paper_params: dict[str, float]  # the mesh's own e_n, f_n, m at which those costs are evaluated
     ties: int = 0  # faces whose facing value is exactly 0 (gaussmap, cones: such evaluations, once per edge)
     notes: dict[str, Any] = field(default_factory=dict)
@@ -84,7 +84,10 @@ class Silhouette:
 
     @cached_property
     def tally(self) -> dict[str, dict[str, int]]:
-        """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access."""
+        """Cost model (``"paper"``, ``"true"``) -> kind -> count; the paper model is evaluated on first access.
+        A detector without a paper cost model (``paper_model`` is ``None``) has the ``true`` tally alone."""
+        if self.paper_model is None:
+            return {"true": self.true_tally}
         return {"paper": paper_tally(self.paper_model, self.steps, self.paper_params), "true": self.true_tally}
 
     @property

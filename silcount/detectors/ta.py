@@ -79,18 +79,12 @@ from silcount.detectors.edge_array import (
     replay_many,
     side_keys,
 )
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
-NAME = "ta"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "TA"
+NAME = "ta"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "eesd2012-ta"
-ONE_VARIANT = False
-LITERATURE = False
-VISITED_STEP = "search_S"
-PLAIN_QUADRATIC = False
-GROWTH_VARIANT = "intended"
-STYLE = ("#1b6ca8", "o")  # colour, marker in figures
 
 # ``true`` cost of the work around the array, per event (see docs/counting.md).
 FACING_FACE_COST = {"read": 2}  # face_start[p], face_start[p+1]
@@ -239,3 +233,19 @@ def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """TA's own loops (``intended``), compiled and uncounted (HSD paper Sec. 4.1): visibility once per face,
     then S over the light-facing faces' sides (:func:`.edge_array.plain_array_s`); ascending edge ids."""
     return plain_array_s(mesh, mesh.face_start, mesh.side_from, mesh.side_to, facing_flags(mesh, light)[0])
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="TA",
+    detect=detect,
+    role="paper",
+    paper_model=PAPER_MODEL,
+    variants=("intended", "literal"),
+    engines=("fast", "naive"),
+    visited_step="search_S",
+    plain_edge_ids=plain_edge_ids,
+    growth_variant="intended",
+    style=("#1b6ca8", "o"),
+    detect_many=detect_many,
+)

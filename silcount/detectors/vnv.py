@@ -73,18 +73,12 @@ from silcount.detectors.base import (
     make_silhouette,
     visibility_true_cost,
 )
+from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
-NAME = "vnv"  # what it declares of itself: see silcount.detectors.MODULES
-LABEL = "VnV"
+NAME = "vnv"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "eesd2012-vnv"
-ONE_VARIANT = False
-LITERATURE = False
-VISITED_STEP = "check_counter"
-PLAIN_QUADRATIC = True
-GROWTH_VARIANT = "literal"
-STYLE = ("#d1495b", "o")  # colour, marker in figures
 
 COUNTER_COST = {"add": 1}  # counter + 1
 CHECK_COST = {"cmp": 1}  # counter == 1 (the counter is a local: no read)
@@ -232,3 +226,19 @@ def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     src = np.asarray(light.vector, dtype=np.float64)
     directional = isinstance(light, DirectionalLight)
     return _each_edge_against_every_face(mesh.edges, mesh.vertices, mesh.face_start, mesh.corners, src, directional)
+
+
+SPEC = DetectorSpec(
+    name=NAME,
+    label="VnV",
+    detect=detect,
+    role="paper",
+    paper_model=PAPER_MODEL,
+    variants=("intended", "literal"),
+    engines=("fast", "naive"),
+    visited_step="check_counter",
+    plain_edge_ids=plain_edge_ids,
+    plain_quadratic=True,
+    growth_variant="literal",
+    style=("#d1495b", "o"),
+)

@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 from silcount.atomic import write_text  # noqa: E402
 from silcount.counting.cycles import builtin_profiles  # noqa: E402
-from silcount.detectors import DETECTORS, LABELS, LITERATURE  # noqa: E402
+from silcount.detectors import get, names, with_role  # noqa: E402
 from silcount.papers import formulas as F  # noqa: E402
 from silcount.papers import growth as sweep  # noqa: E402
 from silcount.plots import STYLE, save_figure  # noqa: E402
@@ -110,7 +110,13 @@ def cycles(out_dir: Path) -> list[Path]:
 
 def _line(det: str) -> str:
     """HSD dashed (it overlays TA), the literature's hierarchies dash-dotted, the others solid."""
-    return "--" if det == "hsd" else "-." if det in LITERATURE else "-"
+    return "--" if det == "hsd" else "-." if det in with_role("literature") else "-"
+
+
+def _colour(det: str) -> str:
+    """Detector ``det``'s colour in these figures: :data:`COLOURS` by its label, else its spec's own."""
+    spec = get(det)
+    return COLOURS.get(spec.label, spec.style[0])
 
 
 def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
@@ -121,12 +127,12 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
     for ax, model in zip(axes, ("paper", "true")):
         faces_all = []
         by_det: dict[str, list[float]] = {}
-        for det in DETECTORS:
+        for det in names():
             series = sorted(
                 (r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
                 key=lambda r: r.faces,
             )
-            if not series:
+            if not series or any(model not in r.tally for r in series):  # no such cost model: no line
                 continue
             faces = [r.faces for r in series]
             totals = [sum(r.tally[model].values()) for r in series]
@@ -137,8 +143,8 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
                 faces,
                 totals,
                 marker="o",
-                color=COLOURS[LABELS[det]],
-                label=f"{LABELS[det]}: F^{b:.2f}" + (" (~ TA)" if det == "hsd" else ""),
+                color=_colour(det),
+                label=f"{get(det).label}: F^{b:.2f}" + (" (~ TA)" if det == "hsd" else ""),
                 linestyle=_line(det),
             )
         if "hsd" in by_det and "ta" in by_det and len(by_det["hsd"]) == len(by_det["ta"]):
@@ -171,12 +177,12 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
     for row, model in enumerate(("paper", "true")):
         for col, (kind, kind_label) in enumerate(KINDS):
             ax = axes[row, col]
-            for det in DETECTORS:
+            for det in names():
                 series = sorted(
                     (r for r in runs if r.detector == det and not r.error and r.mesh in sweep.SWEEP_MESHES),
                     key=lambda r: r.faces,
                 )
-                pts = [(r.faces, r.tally[model][kind]) for r in series if r.tally[model][kind] > 0]
+                pts = [(r.faces, r.tally[model][kind]) for r in series if r.tally.get(model, {}).get(kind, 0) > 0]
                 if not pts:
                     continue
                 b = exps[(det, model, kind)]
@@ -184,9 +190,9 @@ def growth_by_kind(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> 
                     *zip(*pts),
                     marker="o",
                     markersize=3,
-                    color=COLOURS[LABELS[det]],
+                    color=_colour(det),
                     linestyle=_line(det),
-                    label=f"{LABELS[det]} {b:.2f}",
+                    label=f"{get(det).label} {b:.2f}",
                 )
             ax.set_xscale("log")
             ax.set_yscale("log")
@@ -211,21 +217,27 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
     lines = [
         "# Measured growth: fitted exponent b in count ~ F^b",
         "",
-        "Fast engine, the detectors' measured variants (`silcount.detectors.GROWTH_VARIANT`), one point light, "
+        "Fast engine, the detectors' measured variants (each spec's `growth_variant`), one point light, "
         f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count. "
         "gaussmap and cones: the query's counts, without the tree's build (their `notes['build']`).",
         "",
         "| detector | cost model | " + " | ".join(label for _, label in KINDS) + " |",
         "|---|---|" + "---:|" * len(KINDS),
     ]
-    for det in DETECTORS:
+    dets = names()
+    for det in dets:
         for model in ("paper", "true"):
+            if (det, model, KINDS[0][0]) not in exps:  # the detector has no such cost model: empty cells
+                lines.append(f"| {det} | {model} |" + " |" * len(KINDS))
+                continue
             vals = [exps.get((det, model, k)) for k, _ in KINDS]
             lines.append(f"| {det} | {model} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in vals) + " |")
+    no_paper = [det for det in dets if get(det).paper_model is None]
+    lines += ["", *(f"{det}: no paper cost model, its paper row is empty." for det in no_paper)] if no_paper else []
     lines += [
         "",
-        "| mesh | faces | " + " | ".join(f"{d} true total" for d in DETECTORS) + " |",
-        "|---|---:|" + "---:|" * len(DETECTORS),
+        "| mesh | faces | " + " | ".join(f"{d} true total" for d in dets) + " |",
+        "|---|---:|" + "---:|" * len(dets),
     ]
     for mesh in sweep.SWEEP_MESHES:
         row = {r.detector: r for r in runs if r.mesh == mesh}
@@ -233,7 +245,7 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
         lines.append(
             f"| {mesh} | {faces} | "
             + " | ".join(
-                str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in DETECTORS
+                str(sum(row[d].tally["true"].values())) if d in row and not row[d].error else "-" for d in dets
             )
             + " |"
         )

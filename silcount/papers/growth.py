@@ -1,6 +1,6 @@
 """Measured complexity: detector tallies over a size sweep, fitted exponents.
 
-Every detector present in :data:`silcount.DETECTORS` runs with the ``fast``
+Every registered detector (:func:`silcount.detectors.names`) runs with the ``fast``
 engine on the icosphere series (F = 20 * 4**k faces) and on the shared real
 meshes (``$SILCOUNT_MESH_DIR``) for one fixed point light; for each cost model
 and operation kind the exponent b of ``count ~ a F**b`` is fitted by least
@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, GROWTH_VARIANT, detect
+from silcount.detectors import detect, get, names
 from silcount.errors import SilcountError
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh, from_polygons
@@ -81,7 +81,7 @@ class Run:
 
 def run(detector: str, mesh: Mesh) -> Run:
     """Tallies of ``detector`` (its measured variant, fast engine) on ``mesh`` for :func:`standard_light`."""
-    variant = GROWTH_VARIANT[detector]  # the variant whose loops are the printed pseudo-code's
+    variant = get(detector).growth_variant  # the variant whose loops are the printed pseudo-code's
     out = Run(detector, variant, mesh.name, mesh.n_faces, mesh.n_edges, float(mesh.mean_sides))
     try:
         res = detect(mesh, standard_light(mesh), detector, variant=variant, engine="fast")
@@ -91,7 +91,8 @@ def run(detector: str, mesh: Mesh) -> Run:
         raise SilcountError(
             f"measurement failed: detector {detector!r} on {mesh.name}: {type(exc).__name__}: {exc}"
         ) from exc
-    out.tally = {model: {k: int(res.tally[model].get(k, 0)) for k in KINDS} for model in ("paper", "true")}
+    # a detector without a paper cost model has the true tally alone
+    out.tally = {m: {k: int(res.tally[m].get(k, 0)) for k in KINDS} for m in ("paper", "true") if m in res.tally}
     out.steps = dict(res.steps)
     return out
 
@@ -110,7 +111,7 @@ def real_meshes() -> list[Mesh]:
 def sweep(with_real: bool = True) -> tuple[Run, ...]:
     """Every available detector over the icosphere series (and the real meshes)."""
     meshes = [builtin_mesh(name) for name in SWEEP_MESHES] + (real_meshes() if with_real else [])
-    return tuple(run(d, mesh) for d in DETECTORS for mesh in meshes)
+    return tuple(run(d, mesh) for d in names() for mesh in meshes)
 
 
 def fit_exponent(faces, counts) -> float | None:
@@ -128,6 +129,8 @@ def exponents(runs: tuple[Run, ...]) -> dict[tuple[str, str, str], float | None]
     for det in sorted({r.detector for r in runs}):
         series = [r for r in runs if r.detector == det and r.mesh in SWEEP_MESHES and not r.error]
         for model in ("paper", "true"):
+            if not all(model in r.tally for r in series):
+                continue
             for kind in KINDS:
                 out[(det, model, kind)] = fit_exponent(
                     [r.faces for r in series], [r.tally[model][kind] for r in series]

@@ -27,8 +27,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, UnreadableInput, check_choice
+from silcount.detectors import get
+from silcount.detectors import names as registered
+from silcount.errors import BadArgument, UnreadableInput
 from silcount.mesh.io import FORMATS
 from silcount.study.cache import Cache, default_cache_dir
 from silcount.study.schedule import Item, check_scheduler, run_items
@@ -83,11 +84,11 @@ def _settings(lights, light_kind, seed, detectors, variant, timing, time_lights)
         raise BadArgument(f"--lights {lights}: need at least one light")
     if light_kind not in LIGHT_KINDS:
         raise BadArgument(f"--light-kind {light_kind!r}: choose {', '.join(LIGHT_KINDS)}")
-    names = tuple(DETECTORS if detectors is None else detectors)
+    names = tuple(registered() if detectors is None else detectors)
     if not names:
         raise BadArgument("the detector list is empty")
     for d in names:
-        check_choice("detector", d, DETECTORS)
+        get(d)
     variants = {"intended": ("intended",), "literal": ("literal",), "both": ("intended", "literal")}.get(variant)
     if variants is None:
         raise BadArgument(f"--variant {variant!r}: choose intended, literal or both")

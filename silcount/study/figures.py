@@ -26,10 +26,10 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.detectors import LABELS, LITERATURE, STYLES
+from silcount.detectors import get, with_role
 from silcount.plots import STYLE, save_figure
 from silcount.study.fits import power_fit
-from silcount.study.literature import AGAINST, ORDER, PAPERS, size_of
+from silcount.study.literature import AGAINST, label, order, size_of
 
 KIND_COLOURS = {"closed": "#1b6ca8", "open": "#d1495b", "flat": "#2e933c"}
 LEVEL_MARKERS = ("o", "s", "^", "D", "v")
@@ -144,17 +144,17 @@ def literature(frame, out_dir: Path) -> list[Path]:
     fig, axes = plt.subplots(1, len(kinds), figsize=(8.5 * len(kinds), 6), squeeze=False, sharey=True)
     xs = _span(frame["faces"])
     for ax, kind in zip(axes[0], kinds):
-        for det in ORDER:
+        for det in order():
             part = frame[(frame["detector"] == det) & (frame["light_kind"] == kind)]
             if part.empty:
                 continue
-            colour, marker = STYLES[det]
+            colour, marker = get(det).style
             ax.scatter(part["faces"], part["true_ops"], s=14, c=colour, marker=marker, alpha=0.65)
             fit = power_fit(part["faces"], part["true_ops"], f"every mesh, {kind} lights")
             if fit["alpha"] is not None:
-                _line(ax, fit, xs, LABELS[det], c=colour, ls="-" if det in PAPERS else "--")
+                _line(ax, fit, xs, label(det), c=colour, ls="-" if det in with_role("paper") else "--")
             else:
-                ax.scatter([], [], c=colour, marker=marker, label=LABELS[det])
+                ax.scatter([], [], c=colour, marker=marker, label=label(det))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("faces F")
@@ -169,23 +169,23 @@ def output_sensitivity(frame, fits: dict, out_dir: Path) -> list[Path]:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8.5, 6))
-    part = frame[frame["detector"].isin(LITERATURE)]
+    part = frame[frame["detector"].isin(with_role("literature"))]
     xs = _span(size_of(part, AGAINST["s_log2F"])) if len(part) else np.array([])
-    for det in LITERATURE:
+    for det in with_role("literature"):
         for kind, filled in (("directional", True), ("point", False)):
             one = part[(part["detector"] == det) & (part["light_kind"] == kind)]
             if one.empty:
                 continue
-            colour, marker = STYLES[det]
+            colour, marker = get(det).style
             face = colour if filled else "none"
             ax.scatter(size_of(one, AGAINST["s_log2F"]), one["edge_test"], s=16, marker=marker, facecolors=face,
                        edgecolors=colour, alpha=0.7)  # fmt: skip
             fit = fits.get(f"{det}:{kind}:edge_test~s_log2F")
-            label = f"{LABELS[det]}, {kind}"
+            name = f"{label(det)}, {kind}"
             if fit and fit.get("alpha") is not None and xs.size:
-                _line(ax, fit, xs, label, c=colour, ls="-" if filled else ":")
+                _line(ax, fit, xs, name, c=colour, ls="-" if filled else ":")
             else:
-                ax.scatter([], [], marker=marker, facecolors=face, edgecolors=colour, label=label)
+                ax.scatter([], [], marker=marker, facecolors=face, edgecolors=colour, label=name)
     if xs.size:
         ax.plot(xs, xs, c="#999999", lw=0.8, ls="--", label="y = x (for scale)")
     ax.set_xscale("log")
@@ -211,6 +211,6 @@ def write_figures(meshes, fits: dict, runs: list[str], out_dir: Path, frame=None
             paths += hsd_merge(meshes, out_dir)
         if frame is not None:
             paths += literature(frame, out_dir)
-            if frame["detector"].isin(LITERATURE).any():
+            if frame["detector"].isin(with_role("literature")).any():
                 paths += output_sensitivity(frame, fits, out_dir)
     return paths

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from silcount.detectors import LABELS, LITERATURE, PAPERS
+from silcount.detectors import get, with_role
 from silcount.study.fits import power_fit
 
 if TYPE_CHECKING:
@@ -43,8 +43,22 @@ if TYPE_CHECKING:
 
     from silcount.study.work import Settings
 
-YARDSTICKS = ("reference", *LITERATURE)
-ORDER = (*PAPERS, *YARDSTICKS)
+
+def yardsticks() -> tuple[str, ...]:
+    """The detectors set beside the papers': the yardsticks (the reference first), then the literature's."""
+    return (*with_role("yardstick"), *with_role("literature"))
+
+
+def order() -> tuple[str, ...]:
+    """Every registered detector in the pages' order: the papers', then :func:`yardsticks`."""
+    return (*with_role("paper"), *yardsticks())
+
+
+def label(det: str) -> str:
+    """How tables and figures name detector ``det``."""
+    return get(det).label
+
+
 CLAIMS = (("hsd", "ta"), ("hsd", "vnv"), ("eesd", "ta"), ("eesd", "vnv"))
 """The orderings the papers' conclusions rank (HSD 2011 Sec. VII; EESD 2012 Sec. 6): first below second."""
 AGAINST = {"s": "s", "F": "F", "s_log2F": "s log2 F"}
@@ -64,7 +78,7 @@ def kind_frame(rows: pd.DataFrame, meshes: pd.DataFrame, settings: Settings) -> 
     """Per (file, level, light kind, detector) means per light; see the module docstring."""
     import pandas as pd
 
-    intended = [key for key, name, variant in settings.runs() if variant == "intended" and name in ORDER]
+    intended = [key for key, name, variant in settings.runs() if variant == "intended" and name in order()]
     cols = ["file", "level", "light_kind", "detector", "s", "true_ops", "paper_ops", "visited", "visited_fraction"]
     cols += ["edge_test", "faces", "edges", "kind", "time_s", "build_total"]
     if rows.empty:
@@ -94,7 +108,7 @@ def kind_frame(rows: pd.DataFrame, meshes: pd.DataFrame, settings: Settings) -> 
     for c in cols:
         if c not in out:
             out[c] = np.nan
-    out["_order"] = out["detector"].map(ORDER.index)
+    out["_order"] = out["detector"].map(order().index)
     out = out.sort_values(KEYS + ["_order"], kind="stable").drop(columns="_order")
     return out[cols].reset_index(drop=True)
 
@@ -103,7 +117,7 @@ def output_fits(rows: pd.DataFrame, meshes: pd.DataFrame, settings: Settings) ->
     """``<detector>:<light kind>:edge_test~<x>`` for ``gaussmap`` and ``cones``, x in ``s``, ``F``, ``s log2 F``."""
     frame = kind_frame(rows, meshes, settings)
     out: dict[str, dict] = {}
-    for det in LITERATURE:
+    for det in with_role("literature"):
         for kind in sorted(set(frame["light_kind"])):
             part = frame[(frame["detector"] == det) & (frame["light_kind"] == kind)]
             if part.empty:
@@ -131,11 +145,11 @@ def band_table(frame: pd.DataFrame) -> list[dict]:
     bands by increasing F, each value the median over the band's meshes (``timed``: how many had a time)."""
     out = []
     frame = frame.assign(band=frame["faces"].map(band_of), decade=frame["faces"].map(decade))
-    order = frame.sort_values(["decade", "light_kind"], kind="stable").drop_duplicates(["band", "light_kind"])
-    for band, kind in zip(order["band"], order["light_kind"]):
+    seen = frame.sort_values(["decade", "light_kind"], kind="stable").drop_duplicates(["band", "light_kind"])
+    for band, kind in zip(seen["band"], seen["light_kind"]):
         part = frame[(frame["band"] == band) & (frame["light_kind"] == kind)]
         dets = {}
-        for det in ORDER:
+        for det in order():
             d = part[part["detector"] == det]
             if d.empty:
                 continue
@@ -153,7 +167,7 @@ def band_table(frame: pd.DataFrame) -> list[dict]:
 
 
 def _names(dets) -> str:
-    names = [LABELS[d] for d in dets]
+    names = [label(d) for d in dets]
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
@@ -167,12 +181,12 @@ def _compare(wide: pd.DataFrame, low: str, high: str, what: str, unit: str) -> s
         return None
     wins = int((pair[low] < pair[high]).sum())
     ratio = float((pair[low] / pair[high]).median())
-    return f"in {what} on {wins} of {len(pair)} {unit} (median {LABELS[low]}/{LABELS[high]} {ratio:.3g})"
+    return f"in {what} on {wins} of {len(pair)} {unit} (median {label(low)}/{label(high)} {ratio:.3g})"
 
 
 def _best_paper(wide: pd.DataFrame, frame: pd.DataFrame, what: str, unit: str) -> str | None:
-    papers = [d for d in PAPERS if d in wide]
-    yard = [d for d in YARDSTICKS if d in wide]
+    papers = [d for d in with_role("paper") if d in wide]
+    yard = [d for d in yardsticks() if d in wide]
     if not papers or not yard:
         return None
     both = wide[papers + yard].dropna()
@@ -185,7 +199,7 @@ def _best_paper(wide: pd.DataFrame, frame: pd.DataFrame, what: str, unit: str) -
     if len(beat):
         faces = frame.drop_duplicates(KEYS).set_index(KEYS)["faces"]
         who = beat[papers].idxmin(axis=1)
-        cases = [f"{idx[0]} ({LABELS[who[idx]]}, {int(faces[idx]):,} faces)" for idx in beat.index[:6]]
+        cases = [f"{idx[0]} ({label(who[idx])}, {int(faces[idx]):,} faces)" for idx in beat.index[:6]]
         text += ": " + "; ".join(cases) + (" ..." if len(beat) > 6 else "")
     ratio = float((best_paper / best_yard).median())
     return text + f"; the lowest of the first four over the lowest of the others: median {ratio:.3g}x."
@@ -194,16 +208,16 @@ def _best_paper(wide: pd.DataFrame, frame: pd.DataFrame, what: str, unit: str) -
 def _fewest(ops: pd.DataFrame) -> str:
     """Who needs the fewest operations, mesh by mesh, a tie named as one ('a tie of A and B'), most first."""
     best = ops.eq(ops.min(axis=1), axis=0)
-    ranked = [d for d in ORDER if d in best]
+    ranked = [d for d in order() if d in best]
     counts: dict[tuple[str, ...], int] = {}
     for row in best[ranked].itertuples(index=False):
         who = tuple(d for d, won in zip(ranked, row) if won)
         counts[who] = counts.get(who, 0) + 1
     parts = []
     for who, n in sorted(counts.items(), key=lambda kv: (-kv[1], [ranked.index(d) for d in kv[0]])):
-        names = [LABELS[d] for d in who]
-        label = names[0] if len(names) == 1 else "a tie of " + ", ".join(names[:-1]) + " and " + names[-1]
-        parts.append(f"{label} on {int(n)}")
+        names = [label(d) for d in who]
+        named = names[0] if len(names) == 1 else "a tie of " + ", ".join(names[:-1]) + " and " + names[-1]
+        parts.append(f"{named} on {int(n)}")
     return ", ".join(parts) + f" of {len(ops)}"
 
 
@@ -220,7 +234,7 @@ def findings(frame: pd.DataFrame, fits: dict, timed: bool) -> list[str]:
         parts += [_compare(times, low, high, "time per light", f"timed {unit}")] if timed else []
         found = [p for p in parts if p]
         if found:
-            out.append(f"{LABELS[low]} below {LABELS[high]}: " + "; ".join(found) + ".")
+            out.append(f"{label(low)} below {label(high)}: " + "; ".join(found) + ".")
     line = _best_paper(ops, frame, "True operations per light", unit)
     out += [line] if line else []
     if timed:
@@ -230,7 +244,7 @@ def findings(frame: pd.DataFrame, fits: dict, timed: bool) -> list[str]:
         out.append("Times: not measured in this sweep (`silcount report` writes none, so that its output is "
                    "byte-identical; `silcount corpus ... --out DIR` measures them).")  # fmt: skip
     out.append(f"Fewest true operations per light: {_fewest(ops.dropna(how='all'))} {unit}.")
-    for det in LITERATURE:
+    for det in with_role("literature"):
         for kind in sorted(set(frame["light_kind"])):
             out += _sensitivity(det, kind, frame, fits)
     return out
@@ -253,7 +267,7 @@ def _sensitivity(det: str, kind: str, frame: pd.DataFrame, fits: dict) -> list[s
 
     part = frame[(frame["detector"] == det) & (frame["light_kind"] == kind)]
     text = (
-        f"{LABELS[det]}, {kind} lights: edges tested per light grow as {show('s')}, {show('F')} and "
+        f"{label(det)}, {kind} lights: edges tested per light grow as {show('s')}, {show('F')} and "
         f"{show('s_log2F')} (95% intervals: {verdict('s_log2F', 'O(s log F)')}; "
         f"{verdict('F', 'a fixed share of the edges (linear in F)')}); "
         f"median {part['visited_fraction'].median():.3g} of E tested"

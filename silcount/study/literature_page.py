@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from silcount.detectors import LABELS, LITERATURE
-from silcount.study.literature import AGAINST, ORDER, band_table, findings
+from silcount.detectors import with_role
+from silcount.study.literature import AGAINST, band_table, findings, label, order
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -59,8 +59,8 @@ def table(frame: pd.DataFrame) -> str:
     nothing was timed."""
     bands = band_table(frame)
     timed = bool(frame["time_s"].notna().any())
-    dets = [d for d in ORDER if any(d in b["detectors"] for b in bands)]
-    head = ["faces F", "light kind", "meshes", "quantity"] + [LABELS[d] for d in dets]
+    dets = [d for d in order() if any(d in b["detectors"] for b in bands)]
+    head = ["faces F", "light kind", "meshes", "quantity"] + [label(d) for d in dets]
     lines = ["| " + " | ".join(head) + " |", "|" + "|".join(["---"] * 4 + ["---:"] * len(dets)) + "|"]
     for b in bands:
         for quantity, name in QUANTITIES if timed else QUANTITIES[:2]:
@@ -89,7 +89,8 @@ def fits_table(fits: dict) -> str:
 def page(frame: pd.DataFrame, fits: dict, settings: Settings, failed: int) -> str:
     """The whole ``literature.md``."""
     timed = settings.timing and frame["time_s"].notna().any()
-    hierarchies = bool(frame["detector"].isin(LITERATURE).any())  # the figure output_sensitivity is written
+    # the figure output_sensitivity is written
+    hierarchies = bool(frame["detector"].isin(with_role("literature")).any())
     n = frame[["file", "level"]].drop_duplicates().shape[0]
     kinds = ", ".join(sorted(set(frame["light_kind"]))) or "no"
     lights = {"both": f"{settings.lights} directional and {settings.lights} point"}.get(

@@ -74,6 +74,19 @@ def fits_frame(fits: dict) -> pd.DataFrame:
     )
 
 
+def missing_lines(detectors: tuple[str, ...]) -> list[str]:
+    """One line per detector that lacks a part the sweep uses: its columns are empty (none for the built-ins)."""
+    from silcount.detectors import get
+
+    empty = {"paper model": "its paper_ columns are empty", "plain loops": "its time column is empty"}
+    return [
+        f"detector {name}: no {part}, {empty[part]}"
+        for name in detectors
+        for part in get(name).missing
+        if part in empty
+    ]
+
+
 def render_json(result: CorpusResult) -> str:
     return json.dumps(result.document, indent=2, sort_keys=False) + "\n"
 
@@ -84,6 +97,7 @@ def format_corpus(result: CorpusResult, form: str) -> str:
         return render_json(result)
     summary, fits = summary_frame(result.meshes), fits_frame(result.fits)
     failed = f"{result.failed} of {len(result.meshes)} meshes could not be audited (see error)\n"
+    failed += "".join(f"{line}\n" for line in missing_lines(result.settings.detectors))
     md = form == "md"
     head, gap = ("## ", "\n") if md else ("", "")  # markdown: headings, a blank line around each table
     meshes, fits_text = (t.to_markdown(index=False) if md else t.to_string(index=False) for t in (summary, fits))
@@ -95,7 +109,7 @@ def format_corpus(result: CorpusResult, form: str) -> str:
 
 def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> list[Path]:
     """Every ``--out`` file under ``out_dir`` (``with_rows=False`` leaves out ``corpus.parquet``)."""
-    from silcount.detectors import LITERATURE
+    from silcount.detectors import with_role
     from silcount.study.figures import write_figures
     from silcount.study.literature import kind_frame
     from silcount.study.literature_page import TITLE, page
@@ -110,7 +124,7 @@ def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> li
     paths.append(write_text(out_dir / "meshes.csv", result.meshes.to_csv(index=False)))
     paths.append(write_text(out_dir / "fits.json", json.dumps(result.fits, indent=2) + "\n"))
     frame = kind_frame(result.rows, result.meshes, result.settings)
-    with_page = bool(set(LITERATURE) & set(result.settings.detectors))
+    with_page = bool(set(with_role("literature")) & set(result.settings.detectors))
     link = f"See [{TITLE}](literature.md).\n\n" if with_page else ""
     paths.append(write_text(out_dir / "summary.md", "# silcount corpus\n\n" + link + format_corpus(result, "md")))
     if with_page:

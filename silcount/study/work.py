@@ -69,14 +69,14 @@ import numpy as np
 from silcount.counting.arithmetic import KINDS
 from silcount.counting.cycles import Profile, builtin_profiles, cycles_many
 from silcount.detectors import (
-    DETECTORS,
-    PLAIN_QUADRATIC,
-    VISITED_STEP,
     Silhouette,
     detect_many,
     differences,
+    get,
+    names,
     plain_edge_ids,
     plain_setup,
+    specs,
     variants_of,
 )
 from silcount.errors import SilcountError
@@ -98,7 +98,7 @@ class Settings:
     lights: int = 64
     light_kind: str = "directional"
     seed: int = 0
-    detectors: tuple[str, ...] = DETECTORS
+    detectors: tuple[str, ...] = field(default_factory=names)  # every registered detector
     variants: tuple[str, ...] = ("intended",)
     engine: str = "fast"
     timing: bool = True
@@ -194,7 +194,7 @@ def run_columns(
     ``Profile.cycles`` gives).  A ``steps_`` column holds ``None`` for a light whose run did not count
     that step (:func:`row_names`)."""
     diffs = [differences(res.edge_ids, ref.edge_ids) for res, ref in zip(results, refs, strict=True)]
-    visited = [res.steps.get(VISITED_STEP.get(res.detector, "")) for res in results]
+    visited = [res.steps.get(get(res.detector).visited_step or "") for res in results]
     cols: dict[str, list] = {
         "silhouette_edges": [res.n_edges for res in results],
         "missed_edges": [d["missed_edges"] for d in diffs],
@@ -263,8 +263,9 @@ def _warm_up() -> None:
 
     mesh = icosphere(1)
     for light in (DirectionalLight((0.3, 0.5, 0.8)), PointLight((3.0, 2.0, 5.0))):
-        for name in DETECTORS:
-            plain_edge_ids(mesh, light, name)
+        for spec in specs():
+            if spec.plain_edge_ids is not None:
+                spec.plain_edge_ids(mesh, light)
 
 
 def time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tuple[dict[str, float | None], list[str]]:
@@ -285,9 +286,10 @@ def _time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tupl
     errors: list[str] = []
     sample = lights[: max(settings.time_lights, 1)]
     for name in settings.detectors:
-        cost = mesh.n_edges * mesh.n_faces if name in PLAIN_QUADRATIC else mesh.n_faces
-        limit = settings.time_max_pairs if name in PLAIN_QUADRATIC else settings.time_max_faces
-        if not settings.timing or cost > limit or not sample:
+        spec = get(name)
+        cost = mesh.n_edges * mesh.n_faces if spec.plain_quadratic else mesh.n_faces
+        limit = settings.time_max_pairs if spec.plain_quadratic else settings.time_max_faces
+        if not settings.timing or cost > limit or not sample or spec.plain_edge_ids is None:
             out[name] = None
             continue
         _warm_up()

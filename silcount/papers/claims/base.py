@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from functools import cache
 
 from silcount.counting import models
-from silcount.detectors import LABELS
+from silcount.detectors import get
 
 HOLDS, FAILS, AMBIGUOUS = "HOLDS", "FAILS", "AMBIGUOUS"
 VERDICTS = (HOLDS, FAILS, AMBIGUOUS)
@@ -116,7 +116,7 @@ def num(x) -> str:
 
 
 def algo(model: str) -> str:
-    return LABELS[models.load(model)["algorithm"]]
+    return get(models.load(model)["algorithm"]).label
 
 
 def source_of(model_or_paper: str) -> str:
