@@ -198,7 +198,8 @@ def mesh_documents(meshes: pd.DataFrame, rows: pd.DataFrame, settings: Settings)
             entry["steps"] = {k: v for k, v in steps.items() if v is not None}
             for model in ("paper", "true"):
                 cols = [c for c in values if c.startswith(f"{model}_")]
-                entry[model] = {c[len(model) + 1 :]: _clean(rec[f"{run}:{c}"]) for c in cols}
+                # a detector without this cost model (no paper model): its values empty (None)
+                entry[model] = {c[len(model) + 1 :]: _clean(rec.get(f"{run}:{c}")) for c in cols}
             build = _clean(rec.get(f"{run}:build_total"))
             if build is not None:
                 built = [c for c in columns if c.startswith(f"{run}:build_") and _clean(rec[c]) is not None]
