@@ -33,7 +33,9 @@ sys.path[:0] = [tree, tree + "/scripts"]
 import numpy as np
 from bench_detectors import best_time, build_mesh, lights
 import silcount
-from silcount.detectors import adjacency, cones, gaussmap, hierarchy_query
+from silcount.detectors import adjacency
+from silcount.detectors.hierarchy import cones, gaussmap
+from silcount.detectors.hierarchy import query as hierarchy_query
 assert silcount.__file__.startswith(tree), silcount.__file__
 mesh = build_mesh(3)
 trees = {m.NAME: hierarchy_query.tree_for(mesh, m.SCHEME) for m in (gaussmap, cones)}

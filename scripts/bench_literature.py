@@ -39,7 +39,11 @@ import numpy as np
 from bench_detectors import best_time, floor_of, lights
 
 import silcount
-from silcount.detectors import adjacency, cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query
+from silcount.detectors import adjacency
+from silcount.detectors.hierarchy import build as hierarchy_build
+from silcount.detectors.hierarchy import cones, gaussmap
+from silcount.detectors.hierarchy import query as hierarchy_query
+from silcount.detectors.hierarchy import tree as hierarchy
 
 REPEAT = 5  # best of, per light and query
 SWEEP_LEAF = (4, 8, 16, 32)

@@ -15,8 +15,11 @@ from hypothesis import strategies as st
 from strategies import examples
 
 import silcount
-from silcount.detectors import cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query
 from silcount.detectors.adjacency import edge_faces, silhouette_edge_ids
+from silcount.detectors.hierarchy import build as hierarchy_build
+from silcount.detectors.hierarchy import cones, gaussmap
+from silcount.detectors.hierarchy import query as hierarchy_query
+from silcount.detectors.hierarchy import tree as hierarchy
 
 SCHEMES = pytest.mark.parametrize("scheme", [gaussmap.SCHEME, cones.SCHEME], ids=["gaussmap", "cones"])
 LIGHTS = [
@@ -144,7 +147,7 @@ def test_the_compiled_build_is_the_counted_build_array_for_array(scheme, mesh_na
     # The fast build parks face ids in its planes and frees its temporaries early; the tree it returns must
     # still be the naive build's, every array, the NaN planes of a face whose normal overflows included.
     from silcount.counting.arithmetic import OpCounter
-    from silcount.detectors.hierarchy_naive import build_naive
+    from silcount.detectors.hierarchy.naive import build_naive
 
     if mesh_name == "overflowing":
         mesh = overflowing_mesh()
@@ -318,7 +321,7 @@ def test_every_pretest_decision_is_the_exact_sign(seed):
 
 def test_the_counted_pretest_is_the_pretest():
     from silcount.counting.arithmetic import OpCounter, plain
-    from silcount.detectors.hierarchy_naive import pretest_naive
+    from silcount.detectors.hierarchy.naive import pretest_naive
 
     rng = np.random.default_rng(8)
     lights = [silcount.DirectionalLight(rng.normal(size=3) * 2.0 ** rng.integers(-320, 320)) for _ in range(100)]
@@ -338,7 +341,7 @@ def _interleave_by_bits(cells: list[int], bits: int) -> int:
 
 
 def test_the_z_order_codes_are_the_bit_by_bit_interleaving():
-    from silcount.detectors import morton
+    from silcount.detectors.hierarchy import morton
 
     rng = np.random.default_rng(3)
     for _ in range(300):
@@ -393,7 +396,7 @@ def test_trees_with_few_or_no_two_faced_edges(faces):
     """A lone triangle (no two-faced edge: an empty pair tree), a two-triangle strip, three faces on one edge:
     both engines build the same tree and answer the reference's edges."""
     from silcount.counting.arithmetic import OpCounter
-    from silcount.detectors.hierarchy_naive import build_naive
+    from silcount.detectors.hierarchy.naive import build_naive
 
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.3], [0.5, 0.5, 1]], dtype=float)
     mesh = silcount.from_polygons(v, faces, name="few")

@@ -13,7 +13,7 @@ What is checked, and how:
   a face's plane, inside the mesh, at the bounding box; grazing lights);
 * step counts and ``true`` tallies worked out by hand on trees small enough
   to follow (the quad cube, the tetrahedron, one triangle), from the counting
-  rules of :func:`.hierarchy_naive.query_naive` (the loop the ``fast`` engine
+  rules of :func:`silcount.detectors.hierarchy.naive.query_naive` (the loop the ``fast`` engine
   charges; ``docs/counting.md``, "gaussmap and cones");
 * adversarial lights: aimed within one float64 step of every node's decision
   boundary (found by bisection on the pre-test's own arithmetic, emulated in
@@ -39,8 +39,10 @@ from hypothesis import strategies as st
 from strategies import any_meshes, closed_meshes, examples, hard_lights_for
 
 import silcount
-from silcount.detectors import cones, gaussmap, hierarchy, hierarchy_build
-from silcount.detectors.hierarchy_query import query_fast
+from silcount.detectors.hierarchy import build as hierarchy_build
+from silcount.detectors.hierarchy import cones, gaussmap
+from silcount.detectors.hierarchy import tree as hierarchy
+from silcount.detectors.hierarchy.query import query_fast
 from silcount.mesh.model import from_polygons
 
 DETECTORS = ("gaussmap", "cones")
@@ -197,7 +199,7 @@ def check_overflowing_mesh(big: float) -> None:
 
 
 # ---- 3. hand counts -----------------------------------------------------------------------------------------
-# The counting rules (docs/counting.md, "gaussmap and cones", the loop of hierarchy_naive.query_naive): every
+# The counting rules (docs/counting.md, "gaussmap and cones", the loop of hierarchy/naive.py query_naive): every
 # element read is 1 R, every +/- 1 A, * 1 M, comparison 1 C; loop bookkeeping and control flow are free.
 #
 #   once per query      directional d: the light (3 R), its largest |coordinate| (2 C), the range (2 C),
@@ -345,7 +347,7 @@ def test_lit_node_with_a_boundary_edge_is_opened_by_hand(name):
 
 # ---- 4. adversarial lights: at every node's decision boundary, in every face's plane ----------------------------
 def node_decision(box: np.ndarray, light, p0_max: float) -> int:
-    """A node's decision (1 lit, -1 unlit, 0 open) for ``light``, as hierarchy.py derives it: the pre-test's
+    """A node's decision (1 lit, -1 unlit, 0 open) for ``light``, as hierarchy/tree.py derives it: the pre-test's
     arithmetic on the box's corners, in numpy (float32 operations round as the compiled ones do)."""
     s, thr = hierarchy.pretest(light, p0_max)
     lo, hi = box[:4], box[4:]

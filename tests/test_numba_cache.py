@@ -17,7 +17,7 @@ import warnings
 from numba.core.errors import NumbaWarning
 warnings.simplefilter("error", NumbaWarning)
 import silcount
-from silcount.detectors import cones, gaussmap
+from silcount.detectors.hierarchy import cones, gaussmap
 from silcount.mesh.shapes import builtin_mesh
 
 mesh = builtin_mesh("torus")
@@ -33,4 +33,4 @@ def test_hierarchy_kernels_are_cached(tmp_path):
     done = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr[-2000:]
     cached = {p.name.split("-")[0] for p in tmp_path.rglob("*.nbi")}
-    assert {"hierarchy_build._gather_pairs", "gaussmap._keys", "cones._keys"} <= cached
+    assert {"build._gather_pairs", "gaussmap._keys", "cones._keys"} <= cached

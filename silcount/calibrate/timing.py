@@ -11,7 +11,7 @@ The algorithms are the papers' four (TA, VnV, HSD, EESD); the ``reference``
 rule is not one of them (its plain form is numpy, not a loop).  Beside them,
 :func:`literature` (``gaussmap``, ``cones``): their time is their per-light
 query, the fast engine's compiled traversal on the tree cached with the mesh,
-on one numba thread (:func:`silcount.detectors.hierarchy_query.plain_query`; the warm-up
+on one numba thread (:func:`silcount.detectors.hierarchy.query.plain_query`; the warm-up
 call builds the tree, so the build is not timed, as HSD's merge is not), and
 their tally is the query's alone (the build's is ``notes['build']``).  Lights: ``LIGHTS``
 point lights uniformly on the sphere of 3 bounding radii about the mesh centre,

@@ -6,12 +6,13 @@ The built-ins (:mod:`.builtin`) are the papers' four (TA, VnV, HSD, EESD), silco
 (``docs/extending.md``).  Nothing here is read before first use: :func:`names` and every look-up fill the
 registry then.
 
-Beside them: ``spec.py`` (the record), ``registry.py`` (the registry), ``result.py`` (the result type,
+The detectors: ``reference.py``, ``ta.py``, ``vnv.py``, ``hsd.py``, ``eesd.py`` and, in ``hierarchy/``,
+``gaussmap`` and ``cones`` with the bounded plane tree they share.  Beside them: ``spec.py`` (the record),
+``registry.py`` (the registry), ``builtin.py`` (the built-ins' specs), ``result.py`` (the result type,
 :class:`Silhouette`), ``base.py`` (counted visibility and assembling the result), ``adjacency.py``
 (light-facing flags and the reference rule, shared by all), ``edge_array.py`` (TA's and HSD's array S),
-``onplane.py`` (EESD literal's point-on-plane search), ``eesd_rays.py`` (EESD's outward points and rays),
-``eesd_counted.py`` (EESD's counted routines) and ``hierarchy/`` (the bounded plane tree gaussmap and cones
-share).
+``onplane.py`` (EESD literal's point-on-plane search), ``eesd_rays.py`` (EESD's outward points and rays)
+and ``eesd_counted.py`` (EESD's counted routines).
 """
 
 from __future__ import annotations

@@ -30,7 +30,7 @@ Decisions, named:
   (each algorithm's own compiled, uncounted loops, ``intended``), averaged
   over the first ``time_lights`` lights after one warm-up call per process.
   For ``gaussmap`` and ``cones`` that is their fast engine's compiled query
-  (:func:`silcount.detectors.hierarchy_query.query_fast`, on one numba thread,
+  (:func:`silcount.detectors.hierarchy.query.query_fast`, on one numba thread,
   its ids sorted) on the mesh's tree, which is built (or taken from the
   mesh's cache, where the counted runs left it) *before* the clock starts:
   the time is a query's, the build is not in it (its counted cost is the

@@ -1,7 +1,7 @@
 """``prefetch``: ask the processor for a row's memory before it is read (``llvm.prefetch``).
 
-Used by the hierarchies' compiled query (:mod:`.hierarchy_walk`) and build
-(:mod:`.hierarchy_build`, and the schemes' keys through :func:`.morton.plane_sum`),
+Used by the hierarchies' compiled query (:mod:`.walk`) and build
+(:mod:`.build`, and the schemes' keys through :func:`.morton.plane_sum`),
 whose loops read rows of large arrays in an order the processor cannot predict.  A prefetch
 changes no value, only when memory arrives.
 """

@@ -20,11 +20,11 @@ silcount's reading
   edge's two faces' planes summed: the octahedral-map cell of ``u1 + u2``
   (8 bits per axis) and the cell of ``c1 + c2`` in the mesh's range of
   offsets (8 bits); grouped ``fanout`` at a time up to one root
-  (:mod:`.hierarchy`): a tree clustered by normal and position at once, as
+  (:mod:`.tree`): a tree clustered by normal and position at once, as
   Johnson and Cohen's spatialized normal cones are, built bottom-up.  (On
   the 1.04 M-face bunny, a key of the faces' first vertices and normal
   direction, 5-D, reached 1.6x as many leaves per point light.)
-* **The test** is exact in floating point (proof in :mod:`.hierarchy`), so
+* **The test** is exact in floating point (proof in :mod:`.tree`), so
   the answer is exactly the ``reference`` edge set, ties, grazing lights and
   lights in a face's plane included.  A box of normals holds their cone and
   an offset interval holds every offset a sphere would allow, so the box
@@ -41,11 +41,11 @@ import numpy as np
 from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
-from silcount.detectors.hierarchy_naive import read32
-from silcount.detectors.hierarchy_query import detect as detect_with
-from silcount.detectors.hierarchy_query import plain_query, tree_for
-from silcount.detectors.morton import counted_octahedral, interleave3, octahedral, plane_sum
+from silcount.detectors.hierarchy.morton import counted_octahedral, interleave3, octahedral, plane_sum
+from silcount.detectors.hierarchy.naive import read32
+from silcount.detectors.hierarchy.query import detect as detect_with
+from silcount.detectors.hierarchy.query import plain_query, tree_for
+from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.result import Silhouette
 from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
@@ -172,7 +172,7 @@ def plain_setup(mesh: Mesh) -> None:
 
 def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
-    :func:`.hierarchy_query.plain_query`; ascending edge ids."""
+    :func:`.query.plain_query`; ascending edge ids."""
     return plain_query(mesh, SCHEME, light)
 
 

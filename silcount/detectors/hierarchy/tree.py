@@ -9,14 +9,14 @@ whole set of lights.  They differ in how the edges are clustered: by their
 arcs on the Gauss sphere (:mod:`.gaussmap`) or by their faces' planes, normal
 and offset (:mod:`.cones`).  This module is the rest: the tree, the rule that
 decides a face and a node, and the counted build's cost.  The compiled build
-is :mod:`.hierarchy_build`, the compiled query :mod:`.hierarchy_walk` (glue in
-:mod:`.hierarchy_query`), and both on counting arithmetic :mod:`.hierarchy_naive`.
+is :mod:`.build`, the compiled query :mod:`.walk` (glue in
+:mod:`.query`), and both on counting arithmetic :mod:`.naive`.
 
 A face's plane
 --------------
 Whether face ``f`` faces a light depends only on its plane: its unit normal
 ``u`` and offset ``c = p0 . u``.  Each face keeps both in float32
-(:func:`.hierarchy_build.face_planes`), 16 bytes.  Under a light, the face's
+(:func:`.build.face_planes`), 16 bytes.  Under a light, the face's
 float32 *pre-test* value is ``w = fl32(fl32(fl32(s0 u0) + fl32(s1 u1)) + fl32(s2 u2))``
 for a directional light (``s``: the direction scaled by a power of two,
 rounded to float32) and ``w = fl(fl(fl(fl(L0 u0) + fl(L1 u1)) + fl(L2 u2)) - c)``
@@ -186,7 +186,7 @@ def up32(x: float) -> float:
 def pretest(light: Light, p0_max: float) -> tuple[np.ndarray, float]:
     """The float32 light and the threshold of a face's pre-test (the module docstring's ``s`` and ``thr``).
 
-    Each face keeps ``u``, its unit normal, and ``c = p0 . u``, in float32 (:func:`.hierarchy_build.face_planes`:
+    Each face keeps ``u``, its unit normal, and ``c = p0 . u``, in float32 (:func:`.build.face_planes`:
     each ``u_i`` within ``2**-24`` of the true unit normal ``n^``'s, ``c`` within ``2**-24 |c| + 2**-47.9 |p0|_1``
     of ``p0 . n^``).  ``|w| > thr`` proves the sign of the exact facing value ``v`` and that ``v != 0``:
 
@@ -277,7 +277,7 @@ def exact_cost(directional: bool) -> dict[str, int]:
 
 
 def query_cost(steps: dict[str, int], directional: bool, scaled: bool) -> dict[str, int]:
-    """The ``true`` tally of :func:`.hierarchy_naive.query_naive` with these steps (docs/counting.md);
+    """The ``true`` tally of :func:`.naive.query_naive` with these steps (docs/counting.md);
     ``scaled``: the light's pre-test threshold is finite (:func:`setup_cost`).
 
     Besides the per-step costs above: a node not proved lit also tests ``ub < -thr`` (1 C); a node proved

@@ -1,11 +1,11 @@
 """The bounded plane hierarchy on counting arithmetic: the ``naive`` engine of ``gaussmap`` and ``cones``.
 
-:func:`build_naive` builds the tree :func:`~silcount.detectors.hierarchy_build.build_fast`
+:func:`build_naive` builds the tree :func:`~silcount.detectors.hierarchy.build.build_fast`
 builds, and :func:`query_naive` answers a light with every scalar operation
 counted (``docs/counting.md``, "gaussmap and cones"): each tree walked level
 by level from its root, each face pre-tested from its float32 plane and
 evaluated exactly where that cannot decide.  The compiled
-:func:`~silcount.detectors.hierarchy_query.query_fast` takes the same steps.
+:func:`~silcount.detectors.hierarchy.query.query_fast` takes the same steps.
 The tests hold the two engines' trees, edge sets, steps and tallies equal.
 
 Float32 values are read as numpy ``float32`` scalars, so that a counted
@@ -22,7 +22,8 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import edge_faces
 from silcount.detectors.base import MeshMemory, counted_face_normal
-from silcount.detectors.hierarchy import (
+from silcount.detectors.hierarchy.build import build_sizes
+from silcount.detectors.hierarchy.tree import (
     P_RANGE,
     PRETEST_MARGIN,
     PRETEST_RANGE,
@@ -34,7 +35,6 @@ from silcount.detectors.hierarchy import (
     level_starts,
     up32,
 )
-from silcount.detectors.hierarchy_build import build_sizes
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 
@@ -53,7 +53,7 @@ def read32(mem: Memory, idx, wide: bool) -> Num:
 
 # ---- the build --------------------------------------------------------------------------------------------
 def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, counter: OpCounter) -> Hierarchy:
-    """:func:`~silcount.detectors.hierarchy_build.build_fast`'s tree, built on counting arithmetic."""
+    """:func:`~silcount.detectors.hierarchy.build.build_fast`'s tree, built on counting arithmetic."""
     mem = MeshMemory(mesh, DirectionalLight((0.0, 0.0, 1.0)), counter)  # the build reads no light
     F = mesh.n_faces
     p0, nrm = Memory(np.zeros((F, 3)), counter), Memory(np.zeros((F, 3)), counter)
@@ -136,7 +136,7 @@ def build_naive(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int, coun
 
 
 def _plane_naive(p0: Memory, nrm: Memory, f: int, p_max: float, plane: Memory) -> None:
-    """Face ``f``'s plane as :func:`.hierarchy_build.face_planes` computes it, stored as float32 (NaN if untrusted)."""
+    """Face ``f``'s plane as :func:`.build.face_planes` computes it, stored as float32 (NaN if untrusted)."""
     n = [nrm[f, c] for c in range(3)]
     p = [p0[f, c] for c in range(3)]
     m = _abs(n[0]) + _abs(n[1]) + _abs(n[2])
@@ -225,7 +225,7 @@ def _counted_radix_argsort(keys: Memory, n: int, key_bits: int, counter: OpCount
 
 # ---- the query ----------------------------------------------------------------------------------------------
 def pretest_naive(light: Light, p0_max: float, counter: OpCounter) -> tuple[list, Num | float]:
-    """:func:`.hierarchy.pretest` on counting arithmetic (:func:`.hierarchy.setup_cost`): the same ``s`` (as
+    """:func:`.tree.pretest` on counting arithmetic (:func:`.tree.setup_cost`): the same ``s`` (as
     float32 values) and ``thr``."""
     lv = Memory(np.asarray(light.vector, dtype=np.float64), counter)
     v = [lv[c] for c in range(3)]
@@ -248,7 +248,7 @@ def pretest_naive(light: Light, p0_max: float, counter: OpCounter) -> tuple[list
 
 
 def query_naive(mesh: Mesh, tree: Hierarchy, light: Light, counter: OpCounter) -> tuple[np.ndarray, dict, int]:
-    """:func:`~silcount.detectors.hierarchy_query.query_fast` on counting arithmetic."""
+    """:func:`~silcount.detectors.hierarchy.query.query_fast` on counting arithmetic."""
     directional = isinstance(light, DirectionalLight)
     s, thr_num = pretest_naive(light, tree.p0_max, counter)
     thr = np.float64(plain(thr_num))  # compared in float64, never rounded to float32

@@ -1,11 +1,11 @@
 """The compiled query over a bounded plane hierarchy: each tree level by level, its subtrees in parallel.
 
-:func:`query` answers one light on a :class:`.hierarchy.Hierarchy`.  It walks
+:func:`query` answers one light on a :class:`.tree.Hierarchy`.  It walks
 each tree's level-order boxes from its root, skipping every node whose bounds
-prove all its faces lit or all unlit (the proof is in :mod:`.hierarchy`), and
+prove all its faces lit or all unlit (the proof is in :mod:`.tree`), and
 tests the edges of the leaves it reaches by the reference rule, each face by
 its float32 pre-test and, where that cannot decide, exactly.  The nodes,
-edges and faces it tests are those of :func:`.hierarchy_naive.query_naive`,
+edges and faces it tests are those of :func:`.naive.query_naive`,
 which takes the same walk on counting arithmetic.
 
 Layout of the walk: a level's frontier (the nodes whose parents were opened,
@@ -14,7 +14,7 @@ frontier, written without a branch on the decision.  A leaf of the pair tree
 is one run of 2 x 16-byte planes an edge: its edges are pre-tested in one
 branch-free pass, and only a leaf where some pre-test cannot decide is
 passed again, evaluating exactly the faces it could not decide.  The levels
-above :data:`.hierarchy.TASK_LEVEL` are walked first; the subtrees rooted on
+above :data:`.tree.TASK_LEVEL` are walked first; the subtrees rooted on
 it that the walk reaches are then shared out between the threads (task
 ``t`` to thread ``t mod threads``), each writing its edges from its first
 edge position, and the runs are compacted in order.
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from silcount.detectors.prefetch import prefetch
+from silcount.detectors.hierarchy.prefetch import prefetch
 
 # ``stats`` slots: the STEP_NAMES of .hierarchy but 'add' (the returned count), then the ties
 NODE_TEST, NODE_LIT, NODE_LIT_OPEN, NODE_UNLIT, NODE_OPEN, LEAF_OPEN, EDGE_TEST, EDGE_OTHER, FACE_TEST, FACE_EXACT = (
@@ -62,7 +62,7 @@ def _w64(planes, q, light):  # pragma: no cover - compiled
 def _face_lit(planes, q, e, h, mesh_csr, p0, nrm, light, s, thr, thr32, directional,
               stats):  # fmt: skip  # pragma: no cover - compiled
     """Face row ``q`` (side ``h`` of edge ``e``) lit: by its pre-test where ``|w| > thr`` (float32 under a
-    directional light, whose ``thr`` is a float32, :func:`.hierarchy.pretest`), else by its exact value
+    directional light, whose ``thr`` is a float32, :func:`.tree.pretest`), else by its exact value
     (``face_exact``; a 0 is a tie), the face found through the mesh's edge-to-side CSR ``mesh_csr``."""
     if directional:
         w32 = _w32(planes, q, s)
@@ -175,7 +175,7 @@ def _other_leaves(leaves, n, leaf_size, order, start, mesh_csr, planes, p0, nrm,
 
 @njit(cache=True, inline="always")
 def _decide(box, i, s, light, thr, thr32, directional):  # pragma: no cover - compiled
-    """Node ``i``'s bounds decide: 1 every face lit, -1 every face unlit, 0 neither (see :mod:`.hierarchy`)."""
+    """Node ``i``'s bounds decide: 1 every face lit, -1 every face unlit, 0 neither (see :mod:`.tree`)."""
     if directional:
         lb = ub = np.float32(0.0)
         for c in range(3):
@@ -219,7 +219,7 @@ def _walk(pairs, lv, level, j0, box, boundary, leaf_size, fanout, order, start, 
     ids into ``out[k:]``; returns the new ``k``.  ``buf`` holds two frontiers (each the subtree's widest level
     plus a fan-out).  With ``task_level >= 0`` the children on that level are not tested but appended to
     ``tasks`` (``tasks[0]`` counts them).  A node is tested iff every ancestor was opened, as in
-    :func:`.hierarchy_naive.query_naive`.
+    :func:`.naive.query_naive`.
     """
     D = lv.size - 1
     half = buf.size // 2

@@ -1,8 +1,8 @@
 """The compiled query over a bounded plane hierarchy, its counted cost, and the detector glue.
 
-:func:`query_fast` runs :func:`.hierarchy_walk.query` (the proof that its
-pruning is exact is in :mod:`.hierarchy`); it tests the nodes, edges and faces
-of :func:`.hierarchy_naive.query_naive`, and :func:`.hierarchy.query_cost`
+:func:`query_fast` runs :func:`.walk.query` (the proof that its
+pruning is exact is in :mod:`.tree`); it tests the nodes, edges and faces
+of :func:`.naive.query_naive`, and :func:`.tree.query_cost`
 charges those steps what that walk executes for them (``docs/counting.md``).
 :func:`detect` is what ``gaussmap`` and ``cones`` call."""
 
@@ -17,11 +17,11 @@ import numpy as np
 from silcount.counting.arithmetic import OpCounter
 from silcount.detectors.adjacency import edge_faces, facing_flags
 from silcount.detectors.base import EngineRun, make_silhouette
-from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
-from silcount.detectors.hierarchy import query_cost as _query_cost
-from silcount.detectors.hierarchy_build import build_fast
-from silcount.detectors.hierarchy_naive import build_naive, query_naive
-from silcount.detectors.hierarchy_walk import N_STATS, TIES, query
+from silcount.detectors.hierarchy.build import build_fast
+from silcount.detectors.hierarchy.naive import build_naive, query_naive
+from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
+from silcount.detectors.hierarchy.tree import query_cost as _query_cost
+from silcount.detectors.hierarchy.walk import N_STATS, TIES, query
 from silcount.detectors.reference import fast_tally as reference_tally
 from silcount.detectors.result import Silhouette
 from silcount.errors import BadArgument

@@ -15,10 +15,10 @@ silcount's reading
   on the arc).  The paper's choice of subdivision is open; this one gives a
   cell of every level in one integer.
 * **Buckets** are ``leaf_size`` consecutive arcs in that order, grouped
-  ``fanout`` at a time up to one root (:mod:`.hierarchy`); a bucket's bound
+  ``fanout`` at a time up to one root (:mod:`.tree`); a bucket's bound
   is the box of its arcs' end points (the faces' float32 unit normals, with
   their offsets).  The circle "passes through" a node unless the box proves
-  every face below lit or every face unlit (proof in :mod:`.hierarchy`), so
+  every face below lit or every face unlit (proof in :mod:`.tree`), so
   the answer is exactly the ``reference`` edge set, ties and grazing lights
   included.
 * **Point lights** (which the Gauss map does not handle: facing then depends
@@ -40,11 +40,11 @@ import numpy as np
 from numba import njit, prange
 
 from silcount.counting.arithmetic import Memory, OpCounter
-from silcount.detectors.hierarchy import FANOUT, LEAF_SIZE, KeyScheme
-from silcount.detectors.hierarchy_naive import read32
-from silcount.detectors.hierarchy_query import detect as detect_with
-from silcount.detectors.hierarchy_query import plain_query, tree_for
-from silcount.detectors.morton import counted_octahedral, interleave2, octahedral, plane_sum
+from silcount.detectors.hierarchy.morton import counted_octahedral, interleave2, octahedral, plane_sum
+from silcount.detectors.hierarchy.naive import read32
+from silcount.detectors.hierarchy.query import detect as detect_with
+from silcount.detectors.hierarchy.query import plain_query, tree_for
+from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, KeyScheme
 from silcount.detectors.result import Silhouette
 from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import Light
@@ -115,7 +115,7 @@ def plain_setup(mesh: Mesh) -> None:
 
 def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
     """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
-    :func:`.hierarchy_query.plain_query`; ascending edge ids."""
+    :func:`.query.plain_query`; ascending edge ids."""
     return plain_query(mesh, SCHEME, light)
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import plain
-from silcount.detectors.prefetch import ROWS_AHEAD, prefetch
+from silcount.detectors.hierarchy.prefetch import ROWS_AHEAD, prefetch
 
 _M = np.uint64
 

@@ -1,6 +1,6 @@
-"""The compiled build of a bounded plane hierarchy (:mod:`.hierarchy`): planes, keys, sort, records, boxes.
+"""The compiled build of a bounded plane hierarchy (:mod:`.tree`): planes, keys, sort, records, boxes.
 
-:func:`build_fast` builds the tree :func:`.hierarchy_naive.build_naive` builds on
+:func:`build_fast` builds the tree :func:`.naive.build_naive` builds on
 counting arithmetic, array for array (tested), and charges it the counted
 build's tally from the tree's sizes (:func:`build_cost`).  It reads the two
 faces of every two-faced edge from the reference's per-mesh cache
@@ -17,7 +17,8 @@ from numba import njit, prange
 
 from silcount.detectors.adjacency import edge_faces
 from silcount.detectors.base import add_scaled
-from silcount.detectors.hierarchy import (
+from silcount.detectors.hierarchy.prefetch import ROWS_AHEAD, prefetch
+from silcount.detectors.hierarchy.tree import (
     P_RANGE,
     UNIT_RANGE,
     Hierarchy,
@@ -27,7 +28,6 @@ from silcount.detectors.hierarchy import (
     levels,
     sort_passes,
 )
-from silcount.detectors.prefetch import ROWS_AHEAD, prefetch
 from silcount.mesh.model import Mesh
 
 
@@ -70,7 +70,7 @@ def trusted_p0_max(p0: np.ndarray) -> float:
 
 def face_planes(nrm: np.ndarray, p0: np.ndarray, p0_max: float) -> np.ndarray:
     """Each face's unit normal ``u`` and offset ``c = p0 . u``, rounded to float32 (F x 4): the pre-test of a
-    face's sign (:func:`.hierarchy.pretest`).  A row is NaN (the face is then always evaluated exactly) where
+    face's sign (:func:`.tree.pretest`).  A row is NaN (the face is then always evaluated exactly) where
     the normal's ``|n|_1`` is outside ``[2**-300, 2**300]`` (zero, tiny, huge or not finite) or ``|p0|_1``
     exceeds ``p0_max`` (or is not finite).
 
@@ -287,7 +287,7 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     """The two trees over the mesh's edges, each sorted by ``scheme``'s keys, built by compiled kernels.
 
     The build tally is charged from the tree's sizes (:func:`build_cost`), as
-    :func:`.hierarchy_naive.build_naive` executes it.
+    :func:`.naive.build_naive` executes it.
     """
     p0, nrm, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
     p0_max = trusted_p0_max(p0)
@@ -336,7 +336,7 @@ def build_sizes(F: int, trusted: int, T2: int, T1: int, S1: int, N: int, leaf_si
 
 
 def build_cost(sizes: dict[str, int], scheme: KeyScheme) -> dict[str, int]:
-    """The ``true`` tally of :func:`.hierarchy_naive.build_naive` for a tree of these sizes (docs/counting.md)."""
+    """The ``true`` tally of :func:`.naive.build_naive` for a tree of these sizes (docs/counting.md)."""
     F, trusted = sizes["faces"], sizes["trusted_faces"]
     T2, T1, S1 = sizes["pair_edges"], sizes["other_edges"], sizes["other_sides"]
     N = sizes["nodes"]
