@@ -1,4 +1,4 @@
-"""The package's architecture, checked: imports point down the layers, no cycles, small modules, lazy imports.
+"""The package's architecture, checked: imports point down the layers, no cycles, a module per purpose, lazy imports.
 
 Layers, lowest first (README, "Layout"): a module may import its own
 subpackage and any lower layer, never a higher one or a sibling of its layer,
@@ -29,7 +29,6 @@ LAYERS: list[tuple[str, ...]] = [
     ("silcount.cli",),
     ("silcount",),
 ]
-MAX_LINES = 400
 
 
 def module_name(path: Path) -> str:
@@ -133,21 +132,60 @@ def test_the_checker_sees_a_cycle_and_an_upward_import(tmp_path):
     assert got == {"silcount.cli.main", "silcount.detectors.base"}
 
 
+def purpose(path: Path) -> str:
+    """What a module says it is for: the first line of its docstring."""
+    doc = ast.get_docstring(ast.parse(path.read_text(), filename=str(path))) or ""
+    return doc.strip().splitlines()[0].strip() if doc.strip() else ""
+
+
 @pytest.mark.parametrize("name", sorted(GRAPH))
-def test_modules_are_small(name):
-    lines = len(modules()[name].read_text().splitlines())
-    assert lines <= MAX_LINES, f"{name} has {lines} lines (at most {MAX_LINES})"
+def test_every_module_says_what_it_is_for(name):
+    """A module is one concept, not a size: its docstring opens with the one thing it is for."""
+    assert purpose(modules()[name]), f"{name} has no docstring saying what it is for"
+
+
+def test_no_two_modules_are_for_the_same_thing():
+    """Two modules claiming one purpose are one concept split by size (``part 2 of ...``): merge them or say
+    what each is for."""
+    seen: dict[str, str] = {}
+    for name, path in modules().items():
+        what = purpose(path).lower()
+        assert what not in seen, f"{name} and {seen[what]} both say they are for {what!r}"
+        seen[what] = name
+
+
+MAPPED = ("silcount.detectors", "silcount.detectors.hierarchy")
+"""Packages whose ``__init__`` docstring names each of their modules: the map of their architecture."""
+
+
+@pytest.mark.parametrize("package", MAPPED)
+def test_a_mapped_package_names_each_of_its_modules(package):
+    """Each module and subpackage of a mapped package is named by the package's docstring (``spec.py``,
+    ``hierarchy/``), so that a new module says where it stands among the others."""
+    root = PKG.parent.joinpath(*package.split("."))
+    doc = ast.get_docstring(ast.parse((root / "__init__.py").read_text())) or ""
+    parts = [p.name for p in sorted(root.glob("*.py")) if p.name != "__init__.py"]
+    parts += [f"{p.name}/" for p in sorted(root.iterdir()) if (p / "__init__.py").is_file()]
+    for part in parts:
+        assert part in doc, f"{package}'s docstring does not name {part}"
+
+
+def test_the_purpose_rules_can_fail(tmp_path):
+    """A module without a docstring has no purpose; an empty docstring neither."""
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "b.py").write_text('"""  """\n')
+    (tmp_path / "c.py").write_text('"""The thing.\n\nMore."""\n')
+    assert [purpose(tmp_path / n) for n in ("a.py", "b.py", "c.py")] == ["", "", "The thing."]
 
 
 SCRIPTS = PKG.parent / "scripts"
 
 
 @pytest.mark.parametrize("path", sorted(SCRIPTS.glob("*.py")), ids=lambda p: p.name)
-def test_scripts_are_small_and_import_the_installed_package(path):
-    """The package's size rule holds for scripts/ too, and no script edits ``sys.path`` to find silcount."""
+def test_scripts_say_what_they_are_for_and_import_the_installed_package(path):
+    """A script says what it is for, as a module does, and no script edits ``sys.path`` to find silcount."""
     text = path.read_text()
-    lines = len(text.splitlines())
-    assert lines <= MAX_LINES, f"scripts/{path.name} has {lines} lines (at most {MAX_LINES})"
+    assert purpose(path), f"scripts/{path.name} has no docstring saying what it is for"
     assert "sys.path.insert" not in text, f"scripts/{path.name} edits sys.path: import silcount as installed"
 
 
