@@ -1,6 +1,6 @@
 """The package's architecture, checked: imports point down the layers, no cycles, small modules, lazy imports.
 
-Layers, lowest first (README, "Layout"): a module may import its own
+Layers, lowest first (docs/architecture.md, "Layers"): a module may import its own
 subpackage and any lower layer, never a higher one or a sibling of its layer,
 so that the units of one layer are independent of each other (the
 "layers" and "independence" contracts of import-linter, in one table).
