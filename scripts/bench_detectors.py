@@ -51,6 +51,7 @@ import trimesh
 import silcount
 from silcount.detectors import DETECTORS
 from silcount.detectors import adjacency as ref_module
+from silcount.mesh.lights import Light, random_directions, sphere_lights
 
 
 def build_mesh(rounds: int) -> silcount.Mesh:
@@ -62,16 +63,12 @@ def build_mesh(rounds: int) -> silcount.Mesh:
     return silcount.from_polygons(v, f, name=f"bunny_sub{rounds}")
 
 
-def lights(mesh: silcount.Mesh, k: int, seed: int = 1):
-    rng = np.random.default_rng(seed)
-    out = []
-    for i in range(k):
-        d = rng.normal(size=3)
-        d /= np.linalg.norm(d)
-        out.append(
-            silcount.DirectionalLight(d) if i % 2 else silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d)
-        )
-    return out
+def lights(mesh: silcount.Mesh, k: int, seed: int = 1) -> list[Light]:
+    """``k`` random lights (:func:`silcount.mesh.lights.random_directions`), alternately point (even
+    ``i``, 3 bounding radii out) and directional (odd ``i``)."""
+    dirs = random_directions(k, seed)
+    points = sphere_lights(mesh, dirs)
+    return [silcount.DirectionalLight(d) if i % 2 else points[i] for i, d in enumerate(dirs)]
 
 
 def best_time(fn, repeat: int) -> float:

@@ -5,10 +5,12 @@ documented in ``docs/audit.md``); :mod:`silcount.audit.layout` renders it.
 
 Decisions, named:
 
-* **Default lights**: :data:`DEFAULT_LIGHT_COUNT` point lights, directions
-  drawn from a normal distribution with ``numpy.random.default_rng(seed)``
-  and normalised, placed at :data:`LIGHT_DISTANCE` times the bounding radius
-  from the bounding-box centre.
+* **Default lights**: :data:`DEFAULT_LIGHT_COUNT` point lights, seed
+  :data:`DEFAULT_SEED`, from :func:`silcount.mesh.lights.random_lights`:
+  directions drawn from a normal distribution with
+  ``numpy.random.default_rng(seed)`` and normalised, placed at
+  :data:`~silcount.mesh.lights.LIGHT_DISTANCE` times the bounding radius from
+  the bounding-box centre.
 * **Aggregate over lights**: ``silhouette_edges``, ``tallies``, ``steps``,
   ``cycles``, ``missed_edges``, ``extra_edges`` and ``time_s`` are *sums* over
   the lights; ``agrees_with_reference`` holds iff it holds for every light.
@@ -50,7 +52,7 @@ import numpy as np
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
 from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, variants_of
-from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
 from silcount.progress import progress
@@ -59,7 +61,6 @@ from silcount.version import __version__
 SCHEMA = "silcount-audit/1"
 DEFAULT_LIGHT_COUNT = 16
 DEFAULT_SEED = 0
-LIGHT_DISTANCE = 3.0
 
 
 @dataclass(frozen=True)
@@ -72,15 +73,6 @@ class AuditSettings:
     cycles: str = "paper"
     with_edges: bool = False
     with_time: bool = True
-
-
-def random_lights(mesh: Mesh, count: int = DEFAULT_LIGHT_COUNT, seed: int = DEFAULT_SEED) -> list[Light]:
-    """``count`` point lights uniformly on the sphere of ``LIGHT_DISTANCE`` x the bounding radius."""
-    rng = np.random.default_rng(seed)
-    dirs = rng.normal(size=(count, 3))
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    radius = LIGHT_DISTANCE * max(mesh.bounding_radius, 1e-12)
-    return [PointLight(mesh.centre + radius * d) for d in dirs]
 
 
 def winding_number(mesh: Mesh, point) -> float:
@@ -265,7 +257,7 @@ def run_audit(
 ) -> dict:
     """Audit ``mesh`` under each light with each requested detector; see the module docstring."""
     if not lights:
-        lights = random_lights(mesh)
+        lights = random_lights(mesh, DEFAULT_LIGHT_COUNT, DEFAULT_SEED)
     profile = cycle_profile(settings.cycles)
     stats = mesh_statistics(mesh)
     warnings = list(mesh.load_warnings) + mesh_warnings(stats)
