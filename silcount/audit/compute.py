@@ -51,7 +51,7 @@ import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, variants_of
+from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, is_reference_run, runs
 from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -119,15 +119,6 @@ def _light_checks(mesh: Mesh, light: Light, ties: int, index: int) -> tuple[dict
         if info["inside"]:
             warnings.append(f"light {index}: inside the mesh (winding number {w:.3g}): every face sees its back")
     return info, warnings
-
-
-def _runs(settings: AuditSettings) -> list[tuple[str, str, str]]:
-    """(key, detector, variant) for every requested run; ``reference``, ``gaussmap`` and ``cones`` have one variant."""
-    out = []
-    for name in settings.detectors:
-        for variant in variants_of(name, settings.variants):
-            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
-    return out
 
 
 def _ratios(measured: dict[str, int], printed: dict[str, float], lights: int) -> dict[str, float | None]:
@@ -261,14 +252,14 @@ def run_audit(
     profile = cycle_profile(settings.cycles)
     stats = mesh_statistics(mesh)
     warnings = list(mesh.load_warnings) + mesh_warnings(stats)
-    runs = _runs(settings)
+    todo = runs(settings.detectors, settings.variants)
     per_light = []
-    with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
+    with progress(len(lights) * (len(todo) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
         # every run under all the lights at once (detect_many: identical to detect per light), each light's
         # time its share of the pass; the reference first, always (a requested fast reference run is it)
         batches: dict[str, tuple[list[Silhouette], float]] = {}
-        for key, name, variant in [("", "reference", "intended"), *runs]:
-            if key and name == "reference" and settings.engine == "fast":
+        for key, name, variant in [("", "reference", "intended"), *todo]:
+            if key and is_reference_run(name, settings.engine):
                 batches[key] = batches[""]
                 continue
             bar.set_postfix_str(key or "reference", refresh=False)
@@ -281,12 +272,12 @@ def run_audit(
             info, light_warnings = _light_checks(mesh, light, ref.ties, i)
             warnings += light_warnings
             results = {}
-            for key, name, variant in runs:
+            for key, name, variant in todo:
                 res, share = batches[key]
                 results[key] = _one_run(mesh, name, variant, settings, ref, profile, res[i], share)
             per_light.append({"light": info, "detectors": results})
     detectors = {}
-    for key, _, _ in runs:
+    for key, _, _ in todo:
         detectors[key] = _aggregate([pl["detectors"][key] for pl in per_light], settings.with_time)
         _with_ratios(detectors[key], profile, len(lights))
     return {

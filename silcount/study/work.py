@@ -76,9 +76,10 @@ from silcount.detectors import (
     Silhouette,
     detect_many,
     differences,
+    is_reference_run,
     plain_edge_ids,
     plain_setup,
-    variants_of,
+    runs,
 )
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
@@ -108,13 +109,8 @@ class Settings:
     profiles: tuple[str, ...] = field(default_factory=lambda: tuple(builtin_profiles()))
 
     def runs(self) -> list[tuple[str, str, str]]:
-        """(key, detector, variant) per run; ``reference``, ``gaussmap`` and ``cones`` have the one variant
-        (:func:`silcount.detectors.variants_of`), keys as in ``silcount audit``."""
-        out = []
-        for name in self.detectors:
-            for variant in variants_of(name, self.variants):
-                out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
-        return out
+        """(key, detector, variant) per run (:func:`silcount.detectors.runs`), keys as in ``silcount audit``."""
+        return runs(self.detectors, self.variants)
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -319,7 +315,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     runs: list[tuple[dict[str, list], list[tuple[str, ...]]]] = []
     builds: dict[str, dict] = {}
     for key, name, variant in settings.runs():  # each detector over every light at once (detect_many)
-        if name == "reference" and settings.engine == "fast":
+        if is_reference_run(name, settings.engine):
             results = refs
         else:
             results = detect_many(mesh, lights, name, variant=variant, engine=settings.engine)
