@@ -29,7 +29,6 @@ import numpy as np
 CHILD = r"""
 import json, sys
 tree = sys.argv[1]
-sys.path[:0] = [tree, tree + "/scripts"]
 import numpy as np
 from bench_detectors import best_time, build_mesh, lights
 import silcount
@@ -58,8 +57,9 @@ print(json.dumps({k: float(np.median(v)) for k, v in per.items()}))
 
 
 def run(tree: Path) -> dict[str, float]:
+    path = os.pathsep.join([str(tree), str(tree / "scripts")])  # the tree's silcount and its bench_detectors
     out = subprocess.run([sys.executable, "-c", CHILD, str(tree)], check=True, capture_output=True, text=True,
-                         env={**os.environ, "PYTHONPATH": str(tree)})  # fmt: skip
+                         env={**os.environ, "PYTHONPATH": path})  # fmt: skip
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
