@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from common import shared_scenes
 from PIL import Image
 
 from silcount.cli.render import shared_scene_dir
@@ -132,9 +133,7 @@ def _committed_mask(name):
 
 @pytest.mark.parametrize("name", SHARED)
 def test_shared_scene_masks_equal_those_committed_at_318ab63(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     sc = load_scene(d / f"{name}.json")
     truth = render_method(sc, "raycast")
     assert np.array_equal(truth.mask, _committed_mask(f"{name}.raycast.png"))

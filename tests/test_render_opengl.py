@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from common import shared_scenes
 
-from silcount.cli.render import shared_scene_dir
 from silcount.render.masks import compare_masks
 from silcount.render.methods import render_method
 from silcount.render.scene import load_scene
@@ -54,9 +54,7 @@ def gl_context():
 
 
 def scene(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     return load_scene(d / f"{name}.json")
 
 
