@@ -140,6 +140,7 @@ def test_modules_are_small(name):
 
 
 SCRIPTS = PKG.parent / "scripts"
+BENCHMARKS = PKG.parent / "benchmarks"
 MUTATORS = {"insert", "append", "extend", "remove", "pop", "clear", "reverse", "sort", "__setitem__", "__iadd__"}
 PATH_LOADERS = {  # (module, attribute) that import a file by its path, around sys.path
     ("importlib.util", "spec_from_file_location"),
@@ -227,19 +228,20 @@ def path_edits(source: str) -> list[str]:
 
 
 def script_files() -> list[Path]:
-    """Every Python file of scripts/, its packages included."""
-    return sorted(SCRIPTS.rglob("*.py"))
+    """Every Python file of scripts/ and of the benchmarks package."""
+    return sorted([*SCRIPTS.rglob("*.py"), *BENCHMARKS.rglob("*.py")])
 
 
-@pytest.mark.parametrize("path", script_files(), ids=lambda p: p.relative_to(SCRIPTS).as_posix())
+@pytest.mark.parametrize("path", script_files(), ids=lambda p: p.relative_to(PKG.parent).as_posix())
 def test_scripts_are_small_and_import_the_installed_package(path):
-    """The package's size rule holds for scripts/ too, and no script edits ``sys.path`` (or loads a file by its
-    path) to find silcount or a sibling: scripts import silcount as installed, and each other as a package."""
+    """The package's size rule holds for scripts/ and benchmarks/ too, and none of them edits ``sys.path`` (or
+    loads a file by its path) to find silcount or a sibling: they import silcount as installed (or as a child's
+    ``PYTHONPATH`` gives it), and the benchmarks each other as a package."""
     text = path.read_text()
-    name = path.relative_to(SCRIPTS).as_posix()
+    name = path.relative_to(PKG.parent).as_posix()
     lines = len(text.splitlines())
-    assert lines <= MAX_LINES, f"scripts/{name} has {lines} lines (at most {MAX_LINES})"
-    assert not path_edits(text), f"scripts/{name} edits sys.path or loads by path: {'; '.join(path_edits(text))}"
+    assert lines <= MAX_LINES, f"{name} has {lines} lines (at most {MAX_LINES})"
+    assert not path_edits(text), f"{name} edits sys.path or loads by path: {'; '.join(path_edits(text))}"
 
 
 @pytest.mark.parametrize(

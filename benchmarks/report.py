@@ -1,6 +1,6 @@
 """Time `silcount report` on this tree and on a baseline checkout, in one run; check the outputs are byte-identical.
 
-    python scripts/bench_report.py --baseline-tree DIR [--runs 1]
+    python -m benchmarks.report --baseline-tree DIR [--runs 1]
 
 Each tree runs ``python -m silcount.cli.main report --out TMP`` in a fresh
 process (``PYTHONPATH`` set to the tree, its own numba cache directory) after
