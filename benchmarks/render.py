@@ -55,6 +55,7 @@ import numba
 import numpy as np
 
 import silcount
+from benchmarks.common import best_time
 from benchmarks.render_process import BASELINE_COMMIT, whole_process
 from silcount.cli.render import shared_scene_dir
 from silcount.detectors import DETECTORS, plain_edge_ids
@@ -110,12 +111,7 @@ def best_frame(scene, method: str, detector: str, repeat: int) -> dict[str, floa
 def best_detection(mesh, light, detector: str, repeat: int) -> float:
     """Best time (ms) of the detector's own loops, uncounted (:func:`plain_edge_ids`), after a warm-up."""
     plain_edge_ids(mesh, light, detector)
-    runs = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        plain_edge_ids(mesh, light, detector)
-        runs.append(time.perf_counter() - t0)
-    return 1000 * min(runs)
+    return 1000 * best_time(lambda: plain_edge_ids(mesh, light, detector), repeat)
 
 
 def scene_file(tmp: Path, name: str, objects: list[dict], eye, target, light) -> Path:
