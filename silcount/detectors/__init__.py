@@ -12,7 +12,8 @@ The detectors: ``reference.py``, ``ta.py``, ``vnv.py``, ``hsd.py``, ``eesd.py`` 
 :class:`Silhouette`), ``base.py`` (counted visibility and assembling the result), ``adjacency.py``
 (light-facing flags and the reference rule, shared by all), ``edge_array.py`` (TA's and HSD's array S),
 ``onplane.py`` (EESD literal's point-on-plane search), ``eesd_rays.py`` (EESD's outward points and rays)
-and ``eesd_counted.py`` (EESD's counted routines).
+and ``eesd_counted.py`` (EESD's counted routines).  :func:`runs` names each run of a sweep over
+detectors and variants.
 """
 
 from __future__ import annotations
@@ -64,6 +65,23 @@ def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
     return ("intended",) if len(own) == 1 else tuple(v for v in variants if v in own)
 
 
+def runs(detectors: Sequence[str], variants: Sequence[str]) -> list[tuple[str, str, str]]:
+    """``(key, detector, variant)`` for every distinct run of ``detectors`` under ``variants``
+    (:func:`variants_of`): the key is the detector's name for ``intended``, ``name:variant`` otherwise, as
+    the reports of ``silcount audit`` and ``silcount corpus`` name their runs."""
+    out = []
+    for name in detectors:
+        for variant in variants_of(name, variants):
+            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+    return out
+
+
+def is_reference_run(name: str, engine: str) -> bool:
+    """Whether a run of ``name`` on ``engine`` is the reference's ``fast`` run, which a caller that always
+    runs it (for agreement) reuses rather than repeats."""
+    return name == "reference" and engine == "fast"
+
+
 def detect(
     mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast"
 ) -> Silhouette:
@@ -105,10 +123,12 @@ __all__ = [
     "detect",
     "detect_many",
     "get",
+    "is_reference_run",
     "names",
     "plain_edge_ids",
     "plain_setup",
     "register_detector",
+    "runs",
     "specs",
     "variants_of",
     "with_role",

@@ -7,7 +7,7 @@
   (the silhouette size under that light), ``silhouette_edges`` (what the
   detector found), ``missed_edges``/``extra_edges`` against the reference,
   ``edges_visited`` and ``edges_visited_fraction`` (of E; see
-  :data:`silcount.detectors.VISITED_STEP`), ``steps_<step>`` (the
+  each detector spec's ``visited_step``), ``steps_<step>`` (the
   detector's own step counts, empty for the steps of other detectors), then
   per cost model ``M`` (``paper``, ``true``) the counts ``M_add`` ...
   ``M_write``, their sum ``M_total`` and ``M_cycles_<profile>`` per cycle

@@ -6,7 +6,7 @@ and once with ``--baseline DIR`` (a checkout of the commit before; e.g. ``git wo
 import from ``-X importtime`` (the interpreter's start-up is not in it).  Prints the medians, their ratio
 and the machine's load (``os.getloadavg()``) before and after; bytecode is cached by a warm-up round.
 
-    python scripts/bench_import.py --baseline ../main --rounds 30
+    python -m benchmarks.import_time --baseline ../main --rounds 30
 """
 
 from __future__ import annotations
