@@ -7,7 +7,9 @@
    frame on Mesa's llvmpipe through OpenGL as a whole process
    (``scripts/gl_stencil.py``: a GL application's baked scene, one frame,
    the mask as a PNG), interleaved run by run, with the two masks compared
-   pixel by pixel.  Target: silcount within 2x of llvmpipe.  Needs the ``gl``
+   pixel by pixel.  Target: silcount within 2x of llvmpipe.  Beside them, the
+   floor of any numba program writing that mask (:data:`FLOOR`: numpy, numba,
+   one cached kernel, a PNG), so that the ratio can be read against it.  Needs the ``gl``
    extra (moderngl, PyOpenGL); without it only part 1 runs.
 
 Each command runs once as a warm-up (numba's cache and Python's bytecode
@@ -62,12 +64,16 @@ def timed(cmd: list[str], env: dict[str, str]) -> tuple[float, float]:
     return time.perf_counter() - t0, _children_cpu() - c0
 
 
-def series(cmds: dict[str, list[str]], runs: int, env: dict[str, str]) -> dict[str, list[tuple[float, float]]]:
-    """Each command once as a warm-up, then ``runs`` rounds, the commands interleaved within each round."""
+def series(
+    cmds: dict[str, list[str]], runs: int, env: dict[str, str], envs: dict[str, dict[str, str]] | None = None
+) -> dict[str, list[tuple[float, float]]]:
+    """Each command once as a warm-up, then ``runs`` rounds, the commands interleaved within each round.
+
+    ``envs`` gives some commands their own environment."""
     times: dict[str, list[tuple[float, float]]] = {k: [] for k in cmds}
     for i in range(runs + 1):
         for label, cmd in cmds.items():
-            t = timed(cmd, env)
+            t = timed(cmd, (envs or {}).get(label, env))
             if i:
                 times[label].append(t)
     return times
@@ -103,16 +109,41 @@ def help_times(tool: list[str], runs: int, env: dict[str, str]) -> None:
         print(f"{label:<28} {med:7.3f} {best:6.3f} {cpu:6.3f}{'' if med <= HELP_TARGET else '   over target'}")
 
 
+# the least a numba program that writes a mask pays: numpy, numba (which imports scipy.linalg for BLAS when its
+# typing registries load), one cached kernel loaded and run, PIL writing a 512 x 512 PNG; with the collector
+# settings of silcount's console script (silcount.cli.main.run), without which it costs 0.2 s more
+FLOOR = """import gc
+
+gc.set_threshold(10_000, *gc.get_threshold()[1:])
+
+import numba
+import numpy as np
+from PIL import Image
+
+
+@numba.njit(cache=True)
+def total(a):
+    return a.sum()
+
+
+total(np.ones(3))
+Image.fromarray(np.zeros((512, 512), dtype=np.uint8)).save(__file__ + ".png")
+gc.freeze()
+"""
+
+
 def render_times(tool: list[str], scene: Path, runs: int, env: dict[str, str]) -> None:
     with tempfile.TemporaryDirectory() as td:
-        baked, ours, theirs = f"{td}/scene.npz", f"{td}/silcount.png", f"{td}/gl.png"
+        baked, ours, theirs, floor = f"{td}/scene.npz", f"{td}/silcount.png", f"{td}/gl.png", Path(td) / "floor.py"
         bake(load_scene(scene), baked)
+        floor.write_text(FLOOR)
         gl = Path(__file__).resolve().parent / "gl_stencil.py"
         cmds = {
             "silcount render": tool + ["render", str(scene), "--method", "zfail", "--out", ours],
             "llvmpipe (OpenGL)": [sys.executable, str(gl), baked, theirs, "zfail"],
+            "numba floor": [sys.executable, str(floor)],
         }
-        times = series(cmds, runs, env)
+        times = series(cmds, runs, env, {"numba floor": dict(env, NUMBA_CACHE_DIR=f"{td}/numba")})
         cmp = compare_masks(read_mask(ours), read_mask(theirs))
     print(
         f"\n# `silcount render {scene.name} --method zfail` against llvmpipe, whole processes, {runs} interleaved runs"
@@ -124,6 +155,11 @@ def render_times(tool: list[str], scene: Path, runs: int, env: dict[str, str]) -
     print(
         f"ratio silcount / llvmpipe: median {ours[0] / theirs[0]:.2f}, best {ours[1] / theirs[1]:.2f} "
         f"(target <= {RENDER_TARGET}); CPU time {ours[2] / theirs[2]:.2f}"
+    )
+    low = medians(times["numba floor"])
+    print(
+        f"numba floor / llvmpipe: median {low[0] / theirs[0]:.2f}, CPU time {low[2] / theirs[2]:.2f} "
+        "(what any numba program writing the mask pays before silcount's own work)"
     )
     print(f"masks, silcount against llvmpipe: {cmp.describe()}")
 
