@@ -5,7 +5,7 @@
    any version of the tool).  Target: each at most 0.3 s.
 2. ``silcount render cow_and_cubes.json --method zfail`` against the same
    frame on Mesa's llvmpipe through OpenGL as a whole process
-   (``scripts/gl_stencil.py``: a GL application's baked scene, one frame,
+   (``tests/oracles/gl_stencil.py``: a GL application's baked scene, one frame,
    the mask as a PNG), interleaved run by run, with the two masks compared
    pixel by pixel.  Target: silcount within 2x of llvmpipe.  Beside them, the
    floor of any numba program writing that mask (:data:`FLOOR`: numpy, numba,
@@ -14,14 +14,15 @@
 
 Each command runs once as a warm-up (numba's cache and Python's bytecode
 filled), then ``--runs`` times; the median and the best are printed with the
-machine's load (``os.getloadavg()``) before and after, and the median CPU
+machine's load (:func:`benchmarks.common.load_line`) before and after, and the median CPU
 time (user + system, every thread: on a shared machine it varies less than
 the wall clock, which the targets are about).  Bytecode is cached
 (``PYTHONDONTWRITEBYTECODE`` dropped), as after an install.  The tool is the
 ``silcount`` console script beside ``sys.executable`` (``-m
-silcount.cli.main`` without one), so ``PYTHONPATH`` picks the tree timed:
+silcount.cli.main`` without one), so ``PYTHONPATH`` picks the tree timed
+(another checkout's first: ``PYTHONPATH=/that/checkout:.``).  From the checkout's root:
 
-    .venv/bin/python scripts/bench_front_door.py [--runs 5] [--scene SCENE.json]
+    .venv/bin/python -m benchmarks.front_door [--runs 5] [--scene SCENE.json]
 """
 
 from __future__ import annotations
@@ -38,10 +39,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from gl_stencil import bake
-
+from benchmarks.common import ROOT, load_line
 from silcount.render.masks import compare_masks, read_mask
 from silcount.render.scene import load_scene
+from tests.oracles.gl_stencil import bake
 
 HELP_TARGET = 0.3  # seconds, each --help
 RENDER_TARGET = 2.0  # silcount render / llvmpipe, whole processes
@@ -83,10 +84,6 @@ def medians(ts: list[tuple[float, float]]) -> tuple[float, float, float]:
     """Median wall clock, best wall clock, median CPU time."""
     walls = [w for w, _ in ts]
     return statistics.median(walls), min(walls), statistics.median(c for _, c in ts)
-
-
-def load() -> str:
-    return "load " + " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 def subcommands(tool: list[str], env: dict[str, str]) -> list[str]:
@@ -137,7 +134,7 @@ def render_times(tool: list[str], scene: Path, runs: int, env: dict[str, str]) -
         baked, ours, theirs, floor = f"{td}/scene.npz", f"{td}/silcount.png", f"{td}/gl.png", Path(td) / "floor.py"
         bake(load_scene(scene), baked)
         floor.write_text(FLOOR)
-        gl = Path(__file__).resolve().parent / "gl_stencil.py"
+        gl = ROOT / "tests" / "oracles" / "gl_stencil.py"
         cmds = {
             "silcount render": tool + ["render", str(scene), "--method", "zfail", "--out", ours],
             "llvmpipe (OpenGL)": [sys.executable, str(gl), baked, theirs, "zfail"],
@@ -151,14 +148,14 @@ def render_times(tool: list[str], scene: Path, runs: int, env: dict[str, str]) -
     print(f"{'process':<20} {'median':>7} {'best':>6} {'CPU':>6}")
     for label, ts in times.items():
         print(f"{label:<20} " + " ".join(f"{x:{w}.3f}" for x, w in zip(medians(ts), (7, 6, 6))))
-    ours, theirs = medians(times["silcount render"]), medians(times["llvmpipe (OpenGL)"])
+    ours_t, gl_t = medians(times["silcount render"]), medians(times["llvmpipe (OpenGL)"])
     print(
-        f"ratio silcount / llvmpipe: median {ours[0] / theirs[0]:.2f}, best {ours[1] / theirs[1]:.2f} "
-        f"(target <= {RENDER_TARGET}); CPU time {ours[2] / theirs[2]:.2f}"
+        f"ratio silcount / llvmpipe: median {ours_t[0] / gl_t[0]:.2f}, best {ours_t[1] / gl_t[1]:.2f} "
+        f"(target <= {RENDER_TARGET}); CPU time {ours_t[2] / gl_t[2]:.2f}"
     )
     low = medians(times["numba floor"])
     print(
-        f"numba floor / llvmpipe: median {low[0] / theirs[0]:.2f}, CPU time {low[2] / theirs[2]:.2f} "
+        f"numba floor / llvmpipe: median {low[0] / gl_t[0]:.2f}, CPU time {low[2] / gl_t[2]:.2f} "
         "(what any numba program writing the mask pays before silcount's own work)"
     )
     print(f"masks, silcount against llvmpipe: {cmp.describe()}")
@@ -175,7 +172,7 @@ def main() -> int:
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     tool = silcount_command()
-    print(f"# {' '.join(tool)} (PYTHONPATH={env.get('PYTHONPATH', '')}); {load()}")
+    print(f"# {' '.join(tool)} (PYTHONPATH={env.get('PYTHONPATH', '')}); {load_line()}")
     help_times(tool, args.runs, env)
     if args.no_render:
         pass
@@ -184,7 +181,7 @@ def main() -> int:
     else:
         scene = args.scene or Path(os.environ.get("SILCOUNT_SCENE_DIR", "")) / "cow_and_cubes.json"
         render_times(tool, scene, args.runs, env)
-    print(f"\n# {load()}")
+    print(f"\n# {load_line()}")
     return 0
 
 
