@@ -45,7 +45,6 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     are silcount's own annotation, with no printed closed form).
     """
     from silcount.detectors import get
-    from silcount.papers import formulas  # sympy: only when a formula is asked for
 
     model = get(detector).paper_model
     if model is None:
@@ -53,6 +52,8 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     spec = models.load(model)
     if "closed_form" not in spec:
         return None
+    from silcount.papers import formulas  # sympy (~0.3 s): only when there is a printed formula to evaluate
+
     n, m = formula_point(detector, mesh, notes or {})
     values = formulas.evaluate(formulas.printed_final(model), n=n, m=m)
     return {

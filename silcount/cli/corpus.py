@@ -18,7 +18,6 @@ import os
 import sys
 from pathlib import Path
 
-HELP = "sweep a collection of meshes (files or folders): silhouette size and every detector's cost against faces"
 CORPUS_ENV = "SILCOUNT_CORPUS_DIR"
 REPORT_LEVELS = (0,)  # each subdivision level quadruples the faces, and about the time, of the sweep
 
