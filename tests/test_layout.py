@@ -378,7 +378,8 @@ def test_the_parsers_leave_detector_names_to_the_registry():
     runs (``tests/test_registry.py``)."""
     from silcount.cli.main import build_parser
 
-    args = build_parser().parse_args(["render", "s.json", "--method", "zfail", "--detector", "someone-elses"])
+    argv = ["render", "s.json", "--method", "zfail", "--detector", "someone-elses", "--out", "m.png"]
+    args = build_parser().parse_args(argv)
     assert args.detector == "someone-elses"
     assert not hasattr(options, "DETECTORS")
 
