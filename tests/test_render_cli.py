@@ -84,11 +84,9 @@ def test_render_bad_inputs(tmp_path, capsys):
     assert main(["render", str(tmp_path / "bad.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
     (tmp_path / "other.json").write_text('{"spec": "something-else/2"}')
     assert main(["render", str(tmp_path / "other.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
-    assert (
-        main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", str(tmp_path / "no" / "m.png")]) == 2
-    )
+    assert main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", "/proc/m.png"]) == 3
     err = capsys.readouterr().err
-    assert "missing.json" in err and "bad.json" in err and "other.json" in err
+    assert "missing.json" in err and "bad.json" in err and "other.json" in err and "cannot write /proc/m.png" in err
     assert not (tmp_path / "m.png").exists()
 
 

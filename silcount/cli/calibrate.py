@@ -28,7 +28,9 @@ HELP = "do the counts predict time? time the algorithms' compiled loops and pred
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", type=Path, metavar="DIR", help="output directory (default: calibrate/)")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="output directory (default: calibrate/; missing folders are created)"
+    )
     parser.add_argument("--corpus", type=Path, metavar="PATH", help="also time every mesh file under PATH")
     parser.add_argument(
         "--max-faces",
@@ -67,6 +69,7 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.calibrate import output, timing
     from silcount.calibrate.calibration import calibrate, read_timings
     from silcount.calibrate.measure import cpu_model_name, measure
@@ -75,8 +78,9 @@ def run(args: argparse.Namespace) -> int:
 
     if args.lights < 1 or args.repeats < 1:
         raise BadArgument("--lights and --repeats must be at least 1")
+    out = check_writable(args.out or (cycles_dir() if args.measure else Path("calibrate")), folder=True)
     if args.measure:
-        print(measure(args.out or cycles_dir()))
+        print(measure(out))
         return 0
     profiles = builtin_profiles()
     for spec in args.profile:
@@ -104,6 +108,6 @@ def run(args: argparse.Namespace) -> int:
         times = timing.timings(meshes, n_lights, args.repeats, show)
         cpu, source, live = cpu_model_name(), "measured in this run", True
     cal = calibrate(meshes, times, cpu, source, profiles, n_lights, show)
-    for path in output.write(cal, args.out or Path("calibrate"), with_timings=live):
+    for path in output.write(cal, out, with_timings=live):
         print(path)
     return 0

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.atomic import write_text
+from silcount.atomic import check_writable, make_folder, write_text
 from silcount.detectors import DETECTORS, LITERATURE
 from silcount.errors import BadArgument, SilcountError
 from silcount.render.builtin import BUILTIN, builtin_scene
@@ -71,14 +71,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="zpass/zfail volumes: infinite (default), truncated at the floor plane by the paper's 'new pixel', "
         "or sides (infinite, no caps: the EESD paper's z-fail, 'like Z-pass except step 5 and 6')",
     )
-    parser.add_argument("--out", type=Path, required=True, metavar="mask.png", help="8-bit mask PNG, 255 in shadow")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="mask.png",
+        help="8-bit mask PNG, 255 in shadow (missing folders are created)",
+    )
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
     parser.add_argument("--image", type=Path, metavar="shaded.png", help="also write a Phong-shaded picture")
-
-
-def _check_out(path: Path | None, flag: str) -> None:
-    if path is not None and (path.is_dir() or not path.parent.is_dir()):
-        raise BadArgument(f"{flag} {path}: not a writable file path (is a directory, or its directory does not exist)")
 
 
 def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
@@ -91,8 +92,9 @@ def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, i
 
 
 def run(args: argparse.Namespace) -> int:
-    for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
-        _check_out(path, flag)
+    for path in (args.out, args.coverage, args.image):
+        if path is not None:
+            check_writable(path)  # before the render, which may take long
     scene = load_scene(args.scene)
     if args.method not in ("zpass", "zfail") and (args.shadow_test != "nonzero" or args.volume != "infinite"):
         raise BadArgument(f"--shadow-test and --volume apply to zpass and zfail, not to {args.method}")
@@ -209,7 +211,7 @@ def report(out_dir: Path) -> list[Path]:
               file=sys.stderr)  # fmt: skip
     else:
         scenes += [load_scene(p) for p in sorted(shared.glob("*.json"))]
-    dest.mkdir(parents=True, exist_ok=True)
+    make_folder(dest)
     written: list[Path] = []
     summary: dict = {
         "scenes": {},
