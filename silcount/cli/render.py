@@ -30,9 +30,11 @@ import numpy as np
 
 from silcount.atomic import check_writable, make_folder, write_text
 from silcount.detectors import DETECTORS, LITERATURE
-from silcount.errors import BadArgument, SilcountError
+from silcount.errors import BadArgument, InvalidMesh, SilcountError
+from silcount.mesh.io import MAX_MEMORY_ENV, format_size, memory_limit, parse_size
 from silcount.render.builtin import BUILTIN, builtin_scene
 from silcount.render.masks import compare_masks, write_mask, write_png
+from silcount.render.memory import render_bytes
 from silcount.render.methods import METHODS, Rendered, render_method
 from silcount.render.planar import floor_plane
 from silcount.render.scene import Scene, load_scene
@@ -80,6 +82,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
     parser.add_argument("--image", type=Path, metavar="shaded.png", help="also write a Phong-shaded picture")
+    parser.add_argument(
+        "--max-memory",
+        default=None,
+        metavar="SIZE",
+        help="refuse a render estimated to need more (e.g. 8G; default $SILCOUNT_MAX_MEMORY or free RAM)",
+    )
+
+
+WARN_BYTES = 1 << 30  # a render estimated to need more says so on stderr before it starts
+
+
+def check_memory(scene: Scene, method: str, image: bool, max_memory: int | None) -> None:
+    """Refuse, in one line, a render whose estimate (:mod:`silcount.render.memory`) exceeds the limit."""
+    need = render_bytes(scene.width, scene.height, method, image)
+    limit = memory_limit(max_memory)
+    what = f"{scene.path}: {scene.width}x{scene.height} by {method}{' with --image' if image else ''}"
+    if need > limit:
+        raise InvalidMesh(
+            f"{what} needs about {format_size(need)}, over the limit of {format_size(limit)} "
+            f"(set --max-memory or ${MAX_MEMORY_ENV} to raise it)"
+        )
+    if need > WARN_BYTES:
+        print(f"silcount render: warning: {what} needs about {format_size(need)} of memory", file=sys.stderr)
 
 
 def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
@@ -95,9 +120,11 @@ def run(args: argparse.Namespace) -> int:
     for path in (args.out, args.coverage, args.image):
         if path is not None:
             check_writable(path)  # before the render, which may take long
-    scene = load_scene(args.scene)
+    max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
+    scene = load_scene(args.scene, max_memory)
     if args.method not in ("zpass", "zfail") and (args.shadow_test != "nonzero" or args.volume != "infinite"):
         raise BadArgument(f"--shadow-test and --volume apply to zpass and zfail, not to {args.method}")
+    check_memory(scene, args.method, args.image is not None, max_memory)
     r = render_method(scene, args.method, args.detector, args.variant, args.shadow_test, args.volume)
     for msg in r.messages:
         print(f"silcount render: warning: {msg}", file=sys.stderr)
