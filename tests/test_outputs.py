@@ -228,3 +228,18 @@ def test_a_real_process_prints_one_line_for_a_bad_out(tmp_path):
         )
         assert proc.returncode == 3 and proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
         assert out in proc.stderr
+
+
+def test_a_report_part_that_cannot_write_keeps_exit_3_across_the_process_pool(tmp_path):
+    import pickle
+
+    def part(out_dir):
+        return [write_text(out_dir / "x.txt", "x")]
+
+    with pytest.raises(report_cmd.PartFailed) as caught:
+        report_cmd._run_part("tables", part, Path("/proc/silcount-test"))
+    back = pickle.loads(pickle.dumps(caught.value))  # as the worker sends it to the client
+    assert back.exit_code == 3 and str(back).startswith("part tables failed: UnwritableOutput: cannot write")
+    with pytest.raises(report_cmd.PartFailed) as caught:
+        report_cmd._run_part("tables", lambda: 1 / 0)
+    assert pickle.loads(pickle.dumps(caught.value)).exit_code == 1
