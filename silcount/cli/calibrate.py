@@ -78,9 +78,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.lights < 1 or args.repeats < 1:
         raise BadArgument("--lights and --repeats must be at least 1")
-    out = check_writable(args.out or (cycles_dir() if args.measure else Path("calibrate")), folder=True)
     if args.measure:
-        print(measure(out))
+        print(measure(check_writable(args.out or cycles_dir(), folder=True)))
         return 0
     profiles = builtin_profiles()
     for spec in args.profile:
@@ -95,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
                 meshes.append((group, mesh))
             else:
                 print(f"skipped {mesh.name}: {mesh.n_faces} faces > --max-faces {args.max_faces}", file=sys.stderr)
+    out = check_writable(args.out or Path("calibrate"), folder=True)  # after the arguments, before the timing
     show = False if args.quiet else None
     n_lights = args.lights
     if args.timings is not None:
