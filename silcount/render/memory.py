@@ -26,8 +26,8 @@ covered (``h`` below is the fraction of pixels that hit a surface; the estimate 
   (24 each), two light terms (8 each), the lit flags (1), the colour (24) and the temporaries of the
   final sum (56 at most): 66 + 321 h, 387, so 400.
 
-``scripts/render_memory.py`` measures the peak resident memory per pixel (the slope between 1024^2 and
-2048^2 pixels).  On the shared ``cube_on_floor`` scene, where ``h = 0.72``: zpass 34.8, zfail 37.0,
+``python -m benchmarks.render_memory`` measures the peak resident memory per pixel (the slope between
+1024^2 and 2048^2 pixels).  On the shared ``cube_on_floor`` scene, where ``h = 0.72``: zpass 34.8, zfail 37.0,
 planar 34.0 (its untouched stencil is never resident: ``np.zeros`` is ``calloc``), raycast 160.4
 (counted: 42 + 161 x 0.72 = 158), zfail with ``--image`` 300.0 (counted: 66 + 321 x 0.72 = 297).  With
 its floor scaled to cover every pixel (``--full``, ``h = 1``): zpass 34.8, zfail 36.8, planar 34.1,

@@ -8,7 +8,7 @@ The estimate must be at least the measured slope (it is an upper bound, for ever
 ratio says by how much.  ``--full`` scales the scene's first object (the floor) a hundredfold, so that
 every pixel is covered, the case the estimate is for.
 
-    python scripts/render_memory.py [--sizes 1024,2048] [--scene PATH] [--full]
+    python -m benchmarks.render_memory [--sizes 1024,2048] [--scene PATH] [--full]
 """
 
 from __future__ import annotations
@@ -21,7 +21,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from benchmarks.common import ROOT, load_line
+
 CHILD = """
 import resource, sys
 import silcount.cli.render as cli
@@ -54,7 +55,7 @@ def main() -> None:
     parser.add_argument("--full", action="store_true", help="scale the floor so that every pixel is covered")
     args = parser.parse_args()
     n1, n2 = (int(v) for v in args.sizes.split(","))
-    print(f"load average {os.getloadavg()[0]:.2f}; scene {args.scene}{' (floor x100)' if args.full else ''}; "
+    print(f"{load_line()}; scene {args.scene}{' (floor x100)' if args.full else ''}; "
           f"{n1}^2 and {n2}^2 pixels")  # fmt: skip
     print(f"{'case':<16} {'measured B/px':>14} {'estimate B/px':>14} {'estimate/measured':>18}")
     with tempfile.TemporaryDirectory() as tmp:
