@@ -195,7 +195,7 @@ def test_every_command_creates_the_missing_folders_of_its_output(tmp_path, monke
     import silcount.papers.figures as paper_figures
     import silcount.papers.tables as paper_tables
 
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", ("tetrahedron",))
+    monkeypatch.setattr(report_cmd, "report_meshes", lambda: ("tetrahedron",))
     monkeypatch.setattr(report_cmd, "PARTS", ())
     monkeypatch.setattr(figures_cmd, "PARTS", ())
     monkeypatch.setattr(paper_figures, "PARTS", {"table": lambda d: [write_text(d / "t.txt", "t")]})

@@ -25,28 +25,21 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
+from silcount.errors import BadArgument, SilcountError
+from silcount.options import DETECTORS, RENDER_METHODS, SHADOW_TESTS, VOLUMES
 
-from silcount.atomic import check_writable, make_folder, write_text
-from silcount.detectors import DETECTORS, LITERATURE
-from silcount.errors import BadArgument, InvalidMesh, SilcountError
-from silcount.mesh.io import MAX_MEMORY_ENV, format_size, memory_limit, parse_size
-from silcount.render.builtin import BUILTIN, builtin_scene
-from silcount.render.masks import compare_masks, write_mask, write_png
-from silcount.render.memory import render_bytes
-from silcount.render.methods import METHODS, Rendered, render_method
-from silcount.render.planar import floor_plane
-from silcount.render.scene import Scene, load_scene
-from silcount.render.shade import shade
-from silcount.render.stencil import SHADOW_TESTS, VOLUMES
+if TYPE_CHECKING:
+    import numpy as np
 
-HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
+    from silcount.render.methods import Rendered
+    from silcount.render.scene import Scene
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", type=Path, metavar="SCENE.json", help="a silcount-scene/1 file")
-    parser.add_argument("--method", choices=METHODS, required=True, help="how to compute the mask")
+    parser.add_argument("--method", choices=RENDER_METHODS, required=True, help="how to compute the mask")
     parser.add_argument(
         "--detector",
         choices=DETECTORS,
@@ -95,6 +88,10 @@ WARN_BYTES = 1 << 30  # a render estimated to need more says so on stderr before
 
 def check_memory(scene: Scene, method: str, image: bool, max_memory: int | None) -> None:
     """Refuse, in one line, a render whose estimate (:mod:`silcount.render.memory`) exceeds the limit."""
+    from silcount.errors import InvalidMesh
+    from silcount.mesh.io import MAX_MEMORY_ENV, format_size, memory_limit
+    from silcount.render.memory import render_bytes
+
     need = render_bytes(scene.width, scene.height, method, image)
     limit = memory_limit(max_memory)
     what = f"{scene.path}: {scene.width}x{scene.height} by {method}{' with --image' if image else ''}"
@@ -108,15 +105,24 @@ def check_memory(scene: Scene, method: str, image: bool, max_memory: int | None)
 
 
 def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
+    from silcount.render.masks import write_mask, write_png
+
     paths = [write_mask(out, r.mask)]
     if coverage is not None:
         paths.append(write_mask(coverage, r.coverage))
     if image is not None:
+        from silcount.render.shade import shade
+
         paths.append(write_png(image, shade(scene, r.tri_id, r.eye_depth, r.mask)))
     return paths
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
+    from silcount.mesh.io import parse_size
+    from silcount.render.methods import render_method
+    from silcount.render.scene import load_scene
+
     for path in (args.out, args.coverage, args.image):
         if path is not None:
             check_writable(path)  # before the render, which may take long
@@ -153,6 +159,8 @@ def shared_scene_dir() -> Path | None:
 
 
 def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
+    from silcount.render.masks import compare_masks
+
     c = compare_masks(mask, truth, coverage)
     return {
         "shadow_pixels": int(mask.sum()),
@@ -175,6 +183,13 @@ LITERAL_STEPS = {  # key: (method, shadow test, volume); the papers' printed ste
 
 def _render_scene(scene: Scene, dest: Path, written: list[Path]) -> dict:
     """Every method, literal step and detector on one scene; masks into ``dest``; the scene's summary entry."""
+    import numpy as np
+
+    from silcount.detectors import LITERATURE
+    from silcount.render.masks import write_mask
+    from silcount.render.methods import render_method
+    from silcount.render.planar import floor_plane
+
     name = scene.name
     truth = render_method(scene, "raycast")
     written += write_outputs(
@@ -228,6 +243,10 @@ def report(out_dir: Path) -> list[Path]:
     :func:`shared_scene_dir` finds them.  Without them an existing summary is left as it is (a clone without
     the shared scenes loses none of its rows); only a missing one is written, of the built-in scenes.
     """
+    from silcount.atomic import make_folder, write_text
+    from silcount.render.builtin import BUILTIN, builtin_scene
+    from silcount.render.scene import load_scene
+
     scenes = [builtin_scene(n) for n in BUILTIN]
     dest = out_dir / "renders"
     shared = shared_scene_dir()

@@ -7,8 +7,6 @@ from pathlib import Path
 
 FORMATS = ("md", "csv", "tex")
 
-HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")

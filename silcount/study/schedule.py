@@ -194,10 +194,11 @@ def process_pool(workers: int):
     not at the first unit's submission.  They start with SIGINT blocked (:func:`_ctrl_c_held`): a Ctrl-C is
     the client's to handle, by :func:`stop_workers`.
     """
-    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    from silcount.study.spawn import spawn_context
+
+    pool = ProcessPoolExecutor(workers, mp_context=spawn_context())  # workers do not re-run the caller's __main__
     try:
         with _ctrl_c_held():
             for _ in range(workers):  # a submission without an idle process starts one, in this thread
