@@ -54,7 +54,7 @@ def test_a_wheel_installed_outside_the_tree_audits_a_mesh(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     where = json.loads(done.stdout.splitlines()[0])
     assert Path(where["file"]).is_relative_to(site)
-    assert Path(where["models"]).is_relative_to(site) and (Path(where["models"]) / "eesd2012-ta.toml").is_file()
+    assert Path(where["models"]).is_relative_to(site) and (Path(where["models"]) / "papers" / "eesd2012" / "eesd2012-ta.toml").is_file()
     assert where["units"] > 0
     detectors = json.loads(out.read_text())["detectors"]
     assert set(detectors) == {"reference"}

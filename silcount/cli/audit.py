@@ -19,6 +19,7 @@ import numpy as np
 from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
 from silcount.audit.costs import cycle_profile
 from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
+from silcount.cli.paper_option import add_paper_option
 from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, check_choice
 from silcount.mesh import shapes
@@ -99,6 +100,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="merge vertices closer than T (default 0: weld by exact position only)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    add_paper_option(parser)  # its algorithms' printed closed forms are set beside the measured tallies
 
 
 def parse_vector(text: str, option: str) -> tuple[float, float, float]:
@@ -134,8 +136,33 @@ def settings_from(args: argparse.Namespace) -> AuditSettings:
             raise BadArgument("--detectors: the list is empty")
     variants = ("intended", "literal") if args.variant == "both" else (args.variant,)
     return AuditSettings(
-        detectors=chosen, variants=variants, engine=args.engine, cycles=args.cycles, with_edges=args.with_edges
+        detectors=chosen,
+        variants=variants,
+        engine=args.engine,
+        cycles=args.cycles,
+        with_edges=args.with_edges,
+        formulas=paper_formulas(args.paper or []),
     )
+
+
+def paper_formulas(folders: list[Path]) -> tuple[tuple[str, str], ...]:
+    """``(detector, model)`` of each algorithm of the ``--paper`` folders that prints a closed form for a detector."""
+    if not folders:
+        return ()
+    from silcount.counting import models
+    from silcount.papers import plugins
+
+    out: dict[str, str] = {}
+    for paper in plugins.from_folders(folders):
+        for model in paper.algorithms:
+            spec = models.load(model)
+            detector = spec.get("algorithm")
+            if "closed_form" not in spec or detector not in DETECTORS:
+                continue
+            if detector in out:
+                raise BadArgument(f"--paper: {out[detector]} and {model} both print a closed form for {detector}")
+            out[detector] = model
+    return tuple(sorted(out.items()))
 
 
 def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> list[Light]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from silcount.cli.paper_option import add_paper_option, papers_from
+
 HELP = "every quantitative claim of the papers: printed, re-derived, measured, verdict"
 
 
@@ -21,6 +23,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="skip the render experiments (the stencil claims then say 'not measured'; verdicts unchanged)",
     )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="write claims.txt, claims.md, claims.json and rules.md into this directory instead of stdout",
+    )
+    add_paper_option(parser)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -32,8 +42,14 @@ def report(out_dir: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     from silcount.counting.cycles import load_profile
-    from silcount.papers.claims import default_evidence, format_claims
+    from silcount.papers.claims import default_evidence, format_claims, write_claims
 
+    papers = papers_from(args)
     profile = load_profile(args.cycles) if args.cycles else None
-    print(format_claims(args.format, profile, default_evidence(render=not args.no_render)), end="")
+    evidence = default_evidence(render=not args.no_render)
+    if args.out is not None:
+        for path in write_claims(args.out, evidence, papers):
+            print(path)
+    else:
+        print(format_claims(args.format, profile, evidence, papers), end="")
     return 0

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from silcount.cli.paper_option import add_paper_option
+
 HELP = "the papers' figures redrawn, as printed and corrected, and measured growth plots (PNG, SVG)"
 
 
@@ -12,6 +14,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)"
     )
+    add_paper_option(parser)
 
 
 # The figures `silcount report` writes, one part each (silcount.papers.figures.PARTS, dearest first).
@@ -26,8 +29,19 @@ def report(out_dir: Path, name: str) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from silcount.papers.figures import write_all
+    import sys
 
-    for path in write_all(args.out):
+    from silcount.papers import plugins
+    from silcount.papers.figures import write_all, write_papers
+
+    if args.paper:  # the papers' own figures (their algorithms' operations and cycles), not silcount's growth plots
+        papers = plugins.from_folders(args.paper)
+        paths = write_papers(args.out, papers)
+        if not paths:
+            print(f"silcount: {', '.join(p.label for p in papers)}: no algorithm to draw", file=sys.stderr)
+    else:
+        installed = plugins.plugins()
+        paths = write_all(args.out) + (write_papers(args.out / "papers", installed) if installed else [])
+    for path in paths:
         print(path)
     return 0

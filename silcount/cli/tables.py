@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from silcount.cli.paper_option import add_paper_option, papers_from
+
 FORMATS = ("md", "csv", "tex")
 
 HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
@@ -15,6 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", type=Path, default=None, help="write tables.md, tables.csv and tables.tex into this directory"
     )
+    add_paper_option(parser)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -27,9 +30,10 @@ def report(out_dir: Path) -> list[Path]:
 def run(args: argparse.Namespace) -> int:
     from silcount.papers.tables import format_tables, write_all
 
+    papers = papers_from(args)
     if args.out is not None:
-        for path in write_all(args.out):
+        for path in write_all(args.out, papers):
             print(path)
     else:
-        print(format_tables(args.format), end="")
+        print(format_tables(args.format, papers), end="")
     return 0

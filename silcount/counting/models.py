@@ -39,11 +39,38 @@ def models_dir() -> Path:
     return Path(env) if env else Path(str(files("silcount") / "models"))
 
 
+_ADDED: dict[str, Path] = {}
+"""Model files of papers outside the package (``--paper DIR``, the ``silcount.papers`` entry points), by name."""
+
+
+def add_file(name: str, path: Path) -> None:
+    """Make ``load(name)`` read ``path``: a model file of a paper folder outside the package.
+
+    A name the package already has, or that another folder gave, is refused (ValueError): a name means one file.
+    """
+    if _ADDED.get(name, path) != path or (name not in _ADDED and _builtin_path(name).is_file()):
+        raise ValueError(f"model {name!r} ({path}) is already defined by {_ADDED.get(name) or _builtin_path(name)}")
+    _ADDED[name] = path
+    load.cache_clear()
+
+
+def _builtin_path(name: str) -> Path:
+    """``<models>/<name>.toml``, or ``<models>/papers/<paper>/<name>.toml`` (a built-in paper's folder)."""
+    root = models_dir()
+    found = sorted((root / "papers").glob(f"*/{name}.toml"))
+    return found[0] if found else root / f"{name}.toml"
+
+
+def model_path(name: str) -> Path:
+    """The file model ``name`` is read from (it need not exist: :func:`load` then raises FileNotFoundError)."""
+    return _ADDED.get(name) or _builtin_path(name)
+
+
 @cache
 def load(name: str) -> dict:
-    """The parsed TOML of ``silcount/models/<name>.toml``."""
-    path = models_dir() / f"{name}.toml"
-    with open(path, "rb") as fh:
+    """The parsed TOML of model ``name`` (:func:`model_path`: a built-in paper's folder, ``silcount/models/`` or a
+    folder added with :func:`add_file`)."""
+    with open(model_path(name), "rb") as fh:
         return tomllib.load(fh)
 
 
