@@ -54,6 +54,13 @@ def add_file(name: str, path: Path) -> None:
     load.cache_clear()
 
 
+def drop_files(names) -> None:
+    """Forget the files :func:`add_file` gave these names (a paper found broken after it was read)."""
+    for name in names:
+        _ADDED.pop(name, None)
+    load.cache_clear()
+
+
 def _builtin_path(name: str) -> Path:
     """``<models>/<name>.toml``, or ``<models>/papers/<paper>/<name>.toml`` (a built-in paper's folder)."""
     root = models_dir()

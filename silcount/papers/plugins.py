@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from silcount.counting import models
-from silcount.papers.registry import BrokenPaper, Paper, read_folder
+from silcount.papers.registry import BrokenPaper, Paper, forget, read_folder
 
 ENTRY_POINT_GROUP = "silcount.papers"
 
@@ -52,6 +52,7 @@ def check(paper: Paper, where: str = "") -> Paper:
     for name in paper.claims:
         for c in models.load(name).get("claims", []):
             if c.get("check") not in known:
+                forget(paper)
                 raise BrokenPaper(
                     f"paper {where or paper.folder}: {name}.toml: claim {c.get('id')!r} names no known check "
                     f"{c.get('check')!r}"

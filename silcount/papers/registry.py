@@ -85,14 +85,20 @@ def read_folder(folder: Path, *, builtin: bool = False, name: str = "") -> Paper
     files = {k: tuple(meta.get(k, ())) for k in LISTS}
     figures = tuple((f["label"], f["model"]) for f in meta.get("figures", ()))
     if not builtin:
-        for model in sorted({m for names in files.values() for m in names} | {m for _, m in figures}):
+        names = sorted({m for listed in files.values() for m in listed} | {m for _, m in figures})
+        for model in names:  # every file parses before any is added
             path = folder / f"{model}.toml"
             try:
                 with open(path, "rb") as fh:
                     tomllib.load(fh)
-                models.add_file(model, path)
-            except (OSError, tomllib.TOMLDecodeError, ValueError) as exc:
+            except (OSError, tomllib.TOMLDecodeError) as exc:
                 raise _fail(where, f"{path.name}: {exc}") from exc
+        try:
+            for model in names:
+                models.add_file(model, folder / f"{model}.toml")
+        except ValueError as exc:
+            models.drop_files(n for n in names if models.model_path(n).parent == folder)
+            raise _fail(where, str(exc)) from exc
     paper = Paper(
         id=meta["id"],
         label=meta["label"],
@@ -118,6 +124,12 @@ def builtin() -> tuple[Paper, ...]:
     """The built-in papers, ``silcount/models/papers/<id>/``, in their folders' order."""
     root = models.models_dir() / "papers"
     return tuple(read_folder(p.parent, builtin=True) for p in sorted(root.glob(f"*/{MANIFEST}")))
+
+
+def forget(paper: Paper) -> None:
+    """Forget a paper read from a folder (found broken after it was read): its files and its source."""
+    models.drop_files(n for n in (*paper.algorithms, *paper.tables, *paper.claims, *(m for _, m in paper.figures)))
+    _READ.pop(paper.source, None)
 
 
 def known() -> tuple[Paper, ...]:

@@ -67,7 +67,7 @@ def render_text(claims: list[Claim], extra: "Profile | None" = None) -> str:
     for c in claims:
         out += [
             f"[{c.id}] {c.verdict}: {_paper(c)}, {c.where} ({c.key})",
-            f"    quote:     {c.quote}",
+            *([f"    quote:     {c.quote}"] if c.quote else []),  # a paper silcount has no text of quotes nothing
             f"    claim:     {c.statement}",
             f"    printed:   {c.printed}",
             f"    rederived: {c.rederived or '-'}",
