@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from silcount.cli.paper_option import add_paper_option, papers_from
@@ -31,6 +32,8 @@ def run(args: argparse.Namespace) -> int:
     from silcount.papers.tables import format_tables, write_all
 
     papers = papers_from(args)
+    if args.paper and not any(p.tables for p in papers or ()):
+        print(f"silcount: {', '.join(p.label for p in papers or ())}: no operation-count table", file=sys.stderr)
     if args.out is not None:
         for path in write_all(args.out, papers):
             print(path)
