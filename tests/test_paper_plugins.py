@@ -4,6 +4,7 @@ entry points, and a broken paper: one line naming it, the built-ins still workin
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -100,6 +101,25 @@ def test_a_users_paper_is_judged_by_the_generic_rules(tmp_path):
     assert "single-claim rule: 0 of 2" in rules
 
 
+TEXT = "A tiny paper.\n\nShadow volumes were\nproposed by Crow in 1977 [1].\n"
+
+
+@pytest.mark.parametrize("lines, code", [("4-4", 0), ("1-2", 3)])
+def test_a_paper_with_a_text_has_its_quotes_checked_at_their_lines(tmp_path, capsys, lines, code):
+    quotes = iter(['quote = "Shadow volumes were ... Crow"\nlines = "3-4"', f'quote = "in 1977"\nlines = "{lines}"'])
+    quoted = re.sub('section = "2"', lambda m: f"{m.group(0)}\n{next(quotes)}", REFERENCES)
+    quoted = quoted.replace('source_file = "tiny"', 'source_file = "tiny.txt"')  # the text's name
+    folder = make_paper(tmp_path / "texted", quoted, MANIFEST + 'text = "tiny.txt"\n')
+    (folder / "tiny.txt").write_text(TEXT)
+    assert main(["claims", "--paper", str(folder), "--no-render", "--format", "json"]) == code
+    out = capsys.readouterr()
+    if code:  # by hand: "in 1977" is on line 4 of TEXT, not on lines 1-2
+        (line,) = out.err.strip().splitlines()
+        assert str(folder) in line and "'tiny-wrong-year'" in line and "not at lines 1-2 of tiny.txt" in line
+    else:
+        assert [c["quote"] for c in json.loads(out.out)] == ["Shadow volumes were ... Crow", "in 1977"]
+
+
 def test_a_claim_carries_its_citation_where_there_is_no_text(tmp_path):
     cited = REFERENCES.replace('section = "2"', 'citation = "Crow, SIGGRAPH 1977"\nsection = "Table 1"', 1)
     (claim, _) = all_claims(NO_EVIDENCE, plugins.from_folders([make_paper(tmp_path / "tiny", cited)]))
@@ -134,6 +154,12 @@ def test_a_paper_naming_a_check_that_does_not_exist_fails_with_one_line_naming_i
     assert main(["claims", "--paper", str(folder)]) == 3
     line = _one_error_line(capsys)
     assert str(folder) in line and "'tiny-right-year'" in line and "'no_such_rule'" in line
+
+
+def test_a_claims_file_must_name_its_paper(tmp_path, capsys):
+    folder = make_paper(tmp_path / "other", REFERENCES.replace('source_file = "tiny"', 'source_file = "other"'))
+    assert main(["claims", "--paper", str(folder)]) == 3
+    assert "source_file 'other' is not the paper's 'tiny'" in _one_error_line(capsys)
 
 
 def test_a_paper_may_not_redefine_a_builtin_model(tmp_path, capsys):

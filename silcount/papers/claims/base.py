@@ -53,8 +53,9 @@ class Claim:
     # the key of the FAILS claim whose slip this FAILS restates at another place (a table cell computed from a
     # printed line that already fails, ...); "" for an independent erratum
     follows_from: str = ""
-    # the claims file's ``check`` that judged it ("" for a derivation or table-cell claim); not in the reports
-    check: str = ""
+    # the claims file's ``check`` that judged it ("" for a derivation or table-cell claim); not in the reports,
+    # so not in a claim's equality either (a claim read back from JSON is the claim)
+    check: str = field(default="", compare=False)
 
     @property
     def where(self) -> str:
