@@ -242,3 +242,47 @@ def test_the_uv_sphere_is_gooch_et_al_s_78804_face_sphere():
     assert mesh.n_vertices - mesh.n_edges + mesh.n_faces == 2  # a closed genus-0 mesh
     small = uv_sphere(4, 3)  # by hand: 4 + 4 fan triangles and one band of 4 quads: 16 triangles, 10 vertices
     assert (small.n_faces, small.n_vertices, small.n_edges) == (16, 10, 24)
+
+
+LITERATURE = ROOT / "examples" / "literature-paper"
+
+
+def test_the_literature_paper_is_data_only_and_its_report_validates():
+    assert sorted(p.suffix for p in LITERATURE.iterdir()) == [".toml", ".toml"]  # no Python of its own
+    (paper,) = plugins.from_folders([LITERATURE])  # every check it names is registered
+    assert paper.text == "" and paper.source == "literature"
+    import jsonschema
+
+    schema = json.loads((ROOT / "docs" / "schemas" / "claims.schema.json").read_text())
+    report = json.loads((ROOT / "reports" / "literature-paper" / "claims.json").read_text())
+    jsonschema.validate(report, schema)
+    assert [c["key"] for c in report] == [c["id"] for c in models.load("literature-claims")["claims"]]
+
+
+def test_a_measured_verdict_is_the_measurements_not_the_printed_number(tmp_path):
+    from silcount.papers import measure
+
+    run = measure.measure("reference", "tetrahedron", 4, 0)
+    assert (run.faces, run.edges, run.visited) == (4, 6, 6.0)  # the yardstick examines every edge, by hand
+    claim = """\
+source_file = "tiny"
+[[claims]]
+id = "same"
+section = "1"
+statement = "the reference does less than itself"
+printed = "PRINTED"
+check = "measured_comparison"
+meshes = ["tetrahedron"]
+first = "reference"
+second = "reference"
+quantities = ["visited"]
+lights = 4
+"""
+    verdicts = set()
+    for printed in ("10x faster", "no faster"):
+        folder = make_paper(tmp_path / printed.replace(" ", "-"), claim.replace("PRINTED", printed))
+        (c,) = all_claims(NO_EVIDENCE, plugins.from_folders([folder]))
+        verdicts.add(c.verdict)
+        models._ADDED.clear()
+        registry._READ.clear()
+    assert verdicts == {"FAILS"}  # 6 edges against 6: not fewer, whatever the paper prints
