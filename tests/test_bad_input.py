@@ -7,29 +7,20 @@ Every bad file is generated here, in tmp_path.
 
 from __future__ import annotations
 
-import io
 import json
 import struct
 import subprocess
 import sys
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
+from common import run_cli
 from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
 
 from silcount.audit.layout import write_atomic
-from silcount.cli.main import main
 
 QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
 QUAD_CUBE_F = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
-
-
-def run_cli(*argv: str) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        rc = main(list(argv))
-    return rc, out.getvalue(), err.getvalue()
 
 
 def audit(path: Path, *extra: str) -> tuple[int, str, str]:

@@ -4,17 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from common import shared_scenes
 from PIL import Image
 
 from silcount.cli.main import main
-from silcount.cli.render import shared_scene_dir
 from silcount.render.masks import compare_masks, dilate, edge_pixels, write_mask
 
 
 def scene_path(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     return str(d / f"{name}.json")
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
+from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, run_audit
 from silcount.audit.costs import cycle_profile
 from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
 from silcount.cli.paper_option import add_paper_option
@@ -24,7 +24,7 @@ from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, check_choice
 from silcount.mesh import shapes
 from silcount.mesh.io import load_mesh, parse_size
-from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 
 HELP = "audit a mesh: silhouette edges and operation tallies of every detector, per light and aggregated"

@@ -25,7 +25,7 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from silcount.audit.compute import AuditSettings, random_lights, run_audit
+from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, run_audit
 from silcount.audit.layout import format_audit, write_atomic
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
@@ -33,6 +33,7 @@ from silcount.cli.audit import EXTENSIONS
 from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, SilcountError
 from silcount.mesh import shapes
+from silcount.mesh.lights import random_lights
 
 HELP = "regenerate everything under reports/ (claims, tables, figures, renders, audits) from built-in data"
 PARTS = (
@@ -57,7 +58,9 @@ def audit_one(out_dir: Path, name: str) -> list[Path]:
     """Audit built-in mesh ``name`` into ``out_dir/audit/<name>.md`` and ``.json``; returns the paths."""
     settings = AuditSettings(detectors=DETECTORS, variants=("intended", "literal"), with_time=False)
     mesh = shapes.builtin_mesh(name)
-    audit = run_audit(mesh, random_lights(mesh), settings, source=f"built-in {name}", quiet=True)
+    audit = run_audit(
+        mesh, random_lights(mesh, DEFAULT_LIGHT_COUNT, DEFAULT_SEED), settings, source=f"built-in {name}", quiet=True
+    )
     written = []
     for form in ("md", "json"):
         path = out_dir / "audit" / f"{name}.{EXTENSIONS[form]}"

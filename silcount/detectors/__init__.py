@@ -26,7 +26,8 @@ compiled walk, both on counting arithmetic, and the detector glue),
 ``morton.py`` (their Z-order keys), ``eesd_rays.py`` (EESD's outward points and
 rays) and ``eesd_counted.py`` (EESD's counted routines).  :data:`REGISTRY` maps each name to its ``detect``,
 :data:`LABELS` to the name tables and figures give it; :data:`ONE_VARIANT` are
-the detectors with one variant (:func:`variants_of`).
+the detectors with one variant (:func:`variants_of`), and :func:`runs` names
+each run of a sweep over detectors and variants.
 """
 
 from __future__ import annotations
@@ -100,6 +101,23 @@ def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
     return ("intended",) if name in ONE_VARIANT else tuple(variants)
 
 
+def runs(detectors: Sequence[str], variants: Sequence[str]) -> list[tuple[str, str, str]]:
+    """``(key, detector, variant)`` for every distinct run of ``detectors`` under ``variants``
+    (:func:`variants_of`): the key is the detector's name for ``intended``, ``name:variant`` otherwise, as
+    the reports of ``silcount audit`` and ``silcount corpus`` name their runs."""
+    out = []
+    for name in detectors:
+        for variant in variants_of(name, variants):
+            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+    return out
+
+
+def is_reference_run(name: str, engine: str) -> bool:
+    """Whether a run of ``name`` on ``engine`` is the reference's ``fast`` run, which a caller that always
+    runs it (for agreement) reuses rather than repeats."""
+    return name == "reference" and engine == "fast"
+
+
 def detect(
     mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast"
 ) -> Silhouette:
@@ -149,8 +167,10 @@ __all__ = [
     "VISITED_STEP",
     "detect",
     "detect_many",
+    "is_reference_run",
     "plain_edge_ids",
     "plain_setup",
+    "runs",
     "variants_of",
     "Silhouette",
     "compare_with_reference",

@@ -12,7 +12,7 @@ planar shadows of the stencil paper Sec. 4 (onto the floor of
 ``receiver.py``), ``shade.py`` the Phong picture, ``masks.py`` PNG I/O and
 mask comparison.  The single-threaded rasteriser of commit 318ab63 that
 ``raster.py`` must equal bit for bit is the benchmarks' and tests' oracle,
-``scripts/render_baseline.py``, outside the package.  ``builtin.py``
+``tests/oracles/render_baseline.py``, outside the package.  ``builtin.py``
 builds the scenes where the paper's literal steps matter (overlapping
 shadows, a receiver below the clipping plane) and ``experiments.py``
 measures those steps against ray casting for the claims.

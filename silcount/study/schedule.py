@@ -179,10 +179,11 @@ def process_pool(workers: int):
     (:func:`_started`), so that its start (0.25 s) and its import of silcount and numba (0.5 s) begin now,
     not at the first unit's submission.
     """
-    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    from silcount.study.spawn import spawn_context
+
+    pool = ProcessPoolExecutor(workers, mp_context=spawn_context())  # workers do not re-run the caller's __main__
     for _ in range(workers):  # a submission without an idle process starts one
         pool.submit(_started)
     return pool

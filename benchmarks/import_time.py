@@ -1,6 +1,6 @@
 """How long ``import silcount`` and ``silcount claims --help`` take here against a baseline checkout.
 
-Usage: ``python scripts/bench_import.py BASELINE_DIR [--runs N]``.  Each run is a fresh interpreter with
+Usage: ``python -m benchmarks.import_time BASELINE_DIR [--runs N]``.  Each run is a fresh interpreter with
 ``PYTHONPATH`` set to one tree; the trees alternate run by run so that the machine's load falls on both alike.
 Prints the median wall time of each, their ratio and the load average (os.getloadavg()) before and after.
 """
