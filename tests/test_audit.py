@@ -283,7 +283,7 @@ SMALL = ("tetrahedron", "quad_cube")
 
 
 def test_report_audits_are_deterministic_and_match_the_committed_ones(tmp_path, monkeypatch):
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", SMALL)
+    monkeypatch.setattr(report_cmd, "report_meshes", lambda: SMALL)
     first = report_cmd.report(tmp_path / "a")
     second = report_cmd.report(tmp_path / "b")
     assert [p.read_bytes() for p in first] == [p.read_bytes() for p in second]

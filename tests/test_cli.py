@@ -131,7 +131,7 @@ def test_no_mesh_audits_every_builtin_mesh(tmp_path):
 
 
 def test_report_runs_each_part_and_prints_where_it_wrote(tmp_path, monkeypatch):
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", ("tetrahedron",))
+    monkeypatch.setattr(report_cmd, "report_meshes", lambda: ("tetrahedron",))
     monkeypatch.setattr(report_cmd, "PARTS", ())
     rc, out, _ = run_cli("report", "--out", str(tmp_path))
     assert rc == 0

@@ -55,12 +55,11 @@ from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, 
 from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
+from silcount.options import DEFAULT_LIGHT_COUNT, DEFAULT_SEED
 from silcount.progress import progress
 from silcount.version import __version__
 
 SCHEMA = "silcount-audit/1"
-DEFAULT_LIGHT_COUNT = 16
-DEFAULT_SEED = 0
 
 
 @dataclass(frozen=True)

@@ -17,8 +17,6 @@ from pathlib import Path
 from silcount.atomic import write_text
 from silcount.counting.arithmetic import KINDS
 
-FORMATS = ("text", "md", "json")
-
 
 def fmt(x) -> str:
     """Stable human formatting: ``-`` for missing, ints in full, floats to 6 significant digits."""

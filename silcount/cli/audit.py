@@ -10,24 +10,21 @@ is then a directory receiving ``<mesh>.<format>``.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, run_audit
-from silcount.audit.costs import cycle_profile
-from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
 from silcount.cli.paper_option import add_paper_option
-from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, check_choice
-from silcount.mesh import shapes
-from silcount.mesh.io import load_mesh, parse_size
-from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
-from silcount.mesh.model import Mesh
+from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS
 
-HELP = "audit a mesh: silhouette edges and operation tallies of every detector, per light and aggregated"
+if TYPE_CHECKING:
+    from silcount.audit.compute import AuditSettings
+    from silcount.mesh.lights import Light
+    from silcount.mesh.model import Mesh
+
 EXTENSIONS = {"text": "txt", "md": "md", "json": "json"}
 
 
@@ -78,7 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="list each light's silhouette edges as [[x,y,z],[x,y,z]] in the input's coordinates",
     )
-    parser.add_argument("--format", choices=FORMATS, default="text")
+    parser.add_argument("--format", choices=AUDIT_FORMATS, default="text")
     parser.add_argument(
         "--out",
         type=Path,
@@ -110,12 +107,14 @@ def parse_vector(text: str, option: str) -> tuple[float, float, float]:
         values = tuple(float(p) for p in parts)
     except ValueError:
         values = ()
-    if len(values) != 3 or not np.all(np.isfinite(values)):
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
         raise BadArgument(f"{option} {text!r}: expected three finite comma-separated numbers X,Y,Z")
     return values
 
 
 def explicit_lights(args: argparse.Namespace) -> list[Light]:
+    from silcount.mesh.lights import DirectionalLight, PointLight
+
     lights: list[Light] = [PointLight(parse_vector(t, "--light")) for t in args.light]
     for t in args.directional:
         v = parse_vector(t, "--directional")
@@ -126,6 +125,8 @@ def explicit_lights(args: argparse.Namespace) -> list[Light]:
 
 
 def settings_from(args: argparse.Namespace) -> AuditSettings:
+    from silcount.audit.compute import AuditSettings
+
     if args.detectors is None:
         chosen = DETECTORS
     else:
@@ -166,6 +167,8 @@ def paper_formulas(folders: list[Path]) -> tuple[tuple[str, str], ...]:
 
 
 def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> list[Light]:
+    from silcount.mesh.lights import random_lights
+
     if count is not None and count < 0:
         raise BadArgument(f"--random-lights {count}: must be >= 0")
     n = count if count is not None else (0 if fixed else DEFAULT_LIGHT_COUNT)
@@ -176,12 +179,19 @@ def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> 
 
 
 def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fixed: list[Light], source: str) -> dict:
+    from silcount.audit.compute import run_audit
+
     return run_audit(
         mesh, lights_for(mesh, fixed, args.random_lights, args.seed), settings, source=source, quiet=args.quiet
     )
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.audit.costs import cycle_profile
+    from silcount.audit.layout import format_audit, render_json, write_atomic
+    from silcount.mesh import shapes
+    from silcount.mesh.io import load_mesh, parse_size
+
     settings = settings_from(args)
     fixed = explicit_lights(args)
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None

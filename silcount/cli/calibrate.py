@@ -24,8 +24,6 @@ import argparse
 import sys
 from pathlib import Path
 
-HELP = "do the counts predict time? time the algorithms' compiled loops and predict them from tally x cycle profile"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, metavar="DIR", help="output directory (default: calibrate/)")

@@ -7,8 +7,6 @@ from pathlib import Path
 
 from silcount.cli.paper_option import add_paper_option, papers_from
 
-HELP = "every quantitative claim of the papers: printed, re-derived, measured, verdict"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=("text", "md", "json"), default="text", help="output format (default text)")

@@ -18,10 +18,10 @@ import os
 import sys
 from pathlib import Path
 
-HELP = "sweep a collection of meshes (files or folders): silhouette size and every detector's cost against faces"
+from silcount.options import DETECTORS
+
 CORPUS_ENV = "SILCOUNT_CORPUS_DIR"
 REPORT_LEVELS = (0,)  # each subdivision level quadruples the faces, and about the time, of the sweep
-DETECTOR_NAMES = "reference,ta,vnv,hsd,eesd,gaussmap,cones"
 
 
 def _levels(text: str) -> list[int]:
@@ -49,7 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of every mesh's lights, with its sha256 (default 0)")
     parser.add_argument(
-        "--detectors", default=None, metavar="LIST", help=f"comma-separated subset of {DETECTOR_NAMES} (default: all)"
+        "--detectors",
+        default=None,
+        metavar="LIST",
+        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all)",
     )
     parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
     parser.add_argument(

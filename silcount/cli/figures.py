@@ -7,8 +7,6 @@ from pathlib import Path
 
 from silcount.cli.paper_option import add_paper_option
 
-HELP = "the papers' figures redrawn, as printed and corrected, and measured growth plots (PNG, SVG)"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(

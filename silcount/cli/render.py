@@ -25,26 +25,21 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from silcount.atomic import write_text
-from silcount.detectors import DETECTORS, LITERATURE
 from silcount.errors import BadArgument, SilcountError
-from silcount.render.builtin import BUILTIN, builtin_scene
-from silcount.render.masks import compare_masks, write_mask, write_png
-from silcount.render.methods import METHODS, Rendered, render_method
-from silcount.render.planar import floor_plane
-from silcount.render.scene import Scene, load_scene
-from silcount.render.shade import shade
-from silcount.render.stencil import SHADOW_TESTS, VOLUMES
+from silcount.options import DETECTORS, RENDER_METHODS, SHADOW_TESTS, VOLUMES
 
-HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
+if TYPE_CHECKING:
+    import numpy as np
+
+    from silcount.render.methods import Rendered
+    from silcount.render.scene import Scene
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", type=Path, metavar="SCENE.json", help="a silcount-scene/1 file")
-    parser.add_argument("--method", choices=METHODS, required=True, help="how to compute the mask")
+    parser.add_argument("--method", choices=RENDER_METHODS, required=True, help="how to compute the mask")
     parser.add_argument(
         "--detector",
         choices=DETECTORS,
@@ -82,15 +77,22 @@ def _check_out(path: Path | None, flag: str) -> None:
 
 
 def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
+    from silcount.render.masks import write_mask, write_png
+
     paths = [write_mask(out, r.mask)]
     if coverage is not None:
         paths.append(write_mask(coverage, r.coverage))
     if image is not None:
+        from silcount.render.shade import shade
+
         paths.append(write_png(image, shade(scene, r.tri_id, r.eye_depth, r.mask)))
     return paths
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.render.methods import render_method
+    from silcount.render.scene import load_scene
+
     for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
         _check_out(path, flag)
     scene = load_scene(args.scene)
@@ -124,6 +126,8 @@ def shared_scene_dir() -> Path | None:
 
 
 def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
+    from silcount.render.masks import compare_masks
+
     c = compare_masks(mask, truth, coverage)
     return {
         "shadow_pixels": int(mask.sum()),
@@ -146,6 +150,13 @@ LITERAL_STEPS = {  # key: (method, shadow test, volume); the papers' printed ste
 
 def _render_scene(scene: Scene, dest: Path, written: list[Path]) -> dict:
     """Every method, literal step and detector on one scene; masks into ``dest``; the scene's summary entry."""
+    import numpy as np
+
+    from silcount.detectors import LITERATURE
+    from silcount.render.masks import write_mask
+    from silcount.render.methods import render_method
+    from silcount.render.planar import floor_plane
+
     name = scene.name
     truth = render_method(scene, "raycast")
     written += write_outputs(
@@ -199,6 +210,10 @@ def report(out_dir: Path) -> list[Path]:
     :func:`shared_scene_dir` finds them.  Without them an existing summary is left as it is (a clone without
     the shared scenes loses none of its rows); only a missing one is written, of the built-in scenes.
     """
+    from silcount.atomic import write_text
+    from silcount.render.builtin import BUILTIN, builtin_scene
+    from silcount.render.scene import load_scene
+
     scenes = [builtin_scene(n) for n in BUILTIN]
     dest = out_dir / "renders"
     shared = shared_scene_dir()

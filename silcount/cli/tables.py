@@ -10,8 +10,6 @@ from silcount.cli.paper_option import add_paper_option, papers_from
 
 FORMATS = ("md", "csv", "tex")
 
-HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")

@@ -32,11 +32,13 @@ each run of a sweep over detectors and variants.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Sequence
+from types import ModuleType
 
 import numpy as np
 
-from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
+from silcount import options
 from silcount.detectors.base import ENGINES, VARIANTS
 from silcount.detectors.result import Silhouette, compare_with_reference, differences
 from silcount.errors import check_choice
@@ -44,9 +46,10 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 Detector = Callable[..., Silhouette]
-MODULES = (reference, ta, vnv, hsd, eesd, gaussmap, cones)
-"""Each detector's module: ``detect`` and what it declares of itself, from which the tables below are read
-(so that a new detector touches its own module, this tuple and its ``silcount/models/`` file):
+MODULES: tuple[ModuleType, ...] = tuple(importlib.import_module(f"{__name__}.{name}") for name in options.DETECTORS)
+"""Each detector's module, named by :data:`silcount.options.DETECTORS` (where the command line reads the names
+without importing the detectors): ``detect`` and what it declares of itself, from which the tables below are read
+(so that a new detector touches its own module, that tuple and its ``silcount/models/`` file):
 
 * ``NAME``; ``LABEL``, how tables and figures name it; ``PAPER_MODEL``, the ``silcount/models/`` file of its
   ``paper`` cost model; ``ONE_VARIANT``, ``variant`` accepted and ignored (one run, ``intended``);
@@ -68,7 +71,7 @@ LABELS: dict[str, str] = {m.NAME: m.LABEL for m in MODULES}  # how tables and fi
 PAPER_MODEL: dict[str, str] = {m.NAME: m.PAPER_MODEL for m in MODULES}  # the ``paper`` cost model's file
 VISITED_STEP: dict[str, str] = {m.NAME: m.VISITED_STEP for m in MODULES}
 """The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
-PAPERS: tuple[str, ...] = tuple(m.NAME for m in MODULES if not m.LITERATURE and m is not reference)
+PAPERS: tuple[str, ...] = tuple(m.NAME for m in MODULES if not m.LITERATURE and m.NAME != "reference")
 """The papers' detectors (TA, VnV, HSD, EESD): neither the yardstick nor the literature's."""
 PLAIN_QUADRATIC: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.PLAIN_QUADRATIC)
 GROWTH_VARIANT: dict[str, str] = {m.NAME: m.GROWTH_VARIANT for m in MODULES}
