@@ -16,9 +16,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.cli.paper_option import add_paper_option
 from silcount.errors import BadArgument, check_choice
-from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS
+from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS, PAPER_HELP
 
 if TYPE_CHECKING:
     from silcount.audit.compute import AuditSettings
@@ -97,7 +96,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="merge vertices closer than T (default 0: weld by exact position only)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
-    add_paper_option(parser)  # its algorithms' printed closed forms are set beside the measured tallies
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def parse_vector(text: str, option: str) -> tuple[float, float, float]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from silcount.cli.paper_option import add_paper_option, papers_from
+from silcount.options import PAPER_HELP
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -28,7 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="DIR",
         help="write claims.txt, claims.md, claims.json and rules.md into this directory instead of stdout",
     )
-    add_paper_option(parser)
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -41,8 +41,9 @@ def report(out_dir: Path) -> list[Path]:
 def run(args: argparse.Namespace) -> int:
     from silcount.counting.cycles import load_profile
     from silcount.papers.claims import default_evidence, format_claims, write_claims
+    from silcount.papers.plugins import chosen
 
-    papers = papers_from(args)
+    papers = chosen(args.paper)
     profile = load_profile(args.cycles) if args.cycles else None
     evidence = default_evidence(render=not args.no_render)
     if args.out is not None:

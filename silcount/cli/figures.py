@@ -5,14 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from silcount.cli.paper_option import add_paper_option
+from silcount.options import PAPER_HELP
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)"
     )
-    add_paper_option(parser)
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 # The figures `silcount report` writes, one part each (silcount.papers.figures.PARTS, dearest first).

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from silcount.cli.paper_option import add_paper_option, papers_from
+from silcount.options import PAPER_HELP
 
 FORMATS = ("md", "csv", "tex")
 
@@ -16,7 +16,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", type=Path, default=None, help="write tables.md, tables.csv and tables.tex into this directory"
     )
-    add_paper_option(parser)
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -27,9 +27,10 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.papers.plugins import chosen
     from silcount.papers.tables import format_tables, write_all
 
-    papers = papers_from(args)
+    papers = chosen(args.paper)
     if args.paper and not any(p.tables for p in papers or ()):
         print(f"silcount: {', '.join(p.label for p in papers or ())}: no operation-count table", file=sys.stderr)
     if args.out is not None:

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from silcount.counting import models
-from silcount.papers.registry import BrokenPaper, Paper, forget, read_folder
+from silcount.papers.registry import BrokenPaper, Paper, builtin, forget, read_folder
 
 ENTRY_POINT_GROUP = "silcount.papers"
 
@@ -91,3 +91,12 @@ def _text(paper: Paper) -> str | None:
 def from_folders(folders: list[Path]) -> tuple[Paper, ...]:
     """The papers of ``--paper DIR`` options, each read and checked (:class:`BrokenPaper` names the folder)."""
     return tuple(check(read_folder(Path(f))) for f in folders)
+
+
+def chosen(folders: list[Path] | None) -> tuple[Paper, ...] | None:
+    """What a command judges: the ``--paper`` folders' papers; without any, None (the built-ins) unless entry points
+    add papers (then the built-ins and theirs; a broken one is left out with one line on stderr)."""
+    if folders:
+        return from_folders(folders)
+    installed = plugins()
+    return builtin() + installed if installed else None
