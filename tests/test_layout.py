@@ -24,7 +24,8 @@ from silcount.cli.main import COMMANDS
 PKG = Path(__file__).resolve().parent.parent / "silcount"
 
 LAYERS: list[tuple[str, ...]] = [
-    ("silcount.errors", "silcount.version", "silcount.atomic", "silcount.progress", "silcount.options"),
+    ("silcount.errors", "silcount.version", "silcount.options"),
+    ("silcount.atomic", "silcount.progress"),  # atomic raises silcount.errors' UnwritableOutput
     ("silcount.plots", "silcount.counting", "silcount.mesh"),  # independent of each other
     ("silcount.detectors",),
     ("silcount.render", "silcount.study", "silcount.calibrate"),  # the measurements, independent of each other

@@ -208,7 +208,5 @@ def format_audit(audit: dict, form: str) -> str:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` atomically (:mod:`silcount.atomic`), creating missing directories."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Write ``text`` to ``path`` atomically, creating missing directories (:mod:`silcount.atomic`)."""
     write_text(path, text)

@@ -80,7 +80,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=Path,
         default=None,
         metavar="PATH",
-        help="write here instead of stdout (a directory when MESH is omitted)",
+        help="write here instead of stdout (a directory when MESH is omitted; missing folders are created)",
     )
     parser.add_argument(
         "--max-memory",
@@ -186,6 +186,7 @@ def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fix
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.audit.costs import cycle_profile
     from silcount.audit.layout import format_audit, render_json, write_atomic
     from silcount.mesh import shapes
@@ -195,6 +196,8 @@ def run(args: argparse.Namespace) -> int:
     fixed = explicit_lights(args)
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
     cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
+    if args.out is not None:  # and so does an --out that cannot be written
+        check_writable(args.out, folder=args.mesh is None)
     if args.mesh is not None:
         if not args.weld_tolerance >= 0.0:
             raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
@@ -210,8 +213,6 @@ def run(args: argparse.Namespace) -> int:
     for name in shapes.BUILTIN:
         audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
     if args.out is not None:
-        if args.out.exists() and not args.out.is_dir():
-            raise BadArgument(f"--out {args.out}: with no MESH, --out must be a directory")
         for name, a in audits:
             path = args.out / f"{name}.{EXTENSIONS[args.format]}"
             write_atomic(path, format_audit(a, args.format))

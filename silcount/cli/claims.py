@@ -47,7 +47,9 @@ def run(args: argparse.Namespace) -> int:
     profile = load_profile(args.cycles) if args.cycles else None
     evidence = default_evidence(render=not args.no_render)
     if args.out is not None:
-        for path in write_claims(args.out, evidence, papers):
+        from silcount.atomic import check_writable
+
+        for path in write_claims(check_writable(args.out, folder=True), evidence, papers):
             print(path)
     else:
         print(format_claims(args.format, profile, evidence, papers), end="")

@@ -16,7 +16,7 @@ documented exit code here, and nowhere else:
 | 0 | success |
 | 1 | a check failed (e.g. ``compare`` found mismatches) |
 | 2 | bad arguments |
-| 3 | unreadable input |
+| 3 | unreadable input, or an output that cannot be written (:mod:`silcount.atomic`) |
 | 4 | invalid mesh |
 """
 

@@ -28,7 +28,7 @@ from pathlib import Path
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
-from silcount.errors import BadArgument, SilcountError
+from silcount.errors import SilcountError
 from silcount.options import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS
 
 PARTS = (
@@ -52,7 +52,11 @@ def report_meshes() -> tuple[str, ...]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--out", type=Path, default=Path("reports"), metavar="DIR", help="output directory (default: reports)"
+        "--out",
+        type=Path,
+        default=Path("reports"),
+        metavar="DIR",
+        help="output directory (default: reports; missing folders are created)",
     )
 
 
@@ -82,14 +86,23 @@ def report(out_dir: Path) -> list[Path]:
 
 
 class PartFailed(SilcountError):
-    """A part of `silcount report` raised: the message names it."""
+    """A part of `silcount report` raised: the message names it; the exit code is the error's own (1 for an
+    exception that is not a :class:`SilcountError`)."""
+
+    def __init__(self, message: str, exit_code: int = 1) -> None:
+        super().__init__(message, exit_code)
+        self.exit_code = exit_code
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 def _run_part(name: str, fn: Callable[..., list[Path]], *args) -> list[Path]:
     try:
         return fn(*args)
     except Exception as exc:  # re-raised with the part's name (in the worker, where the traceback is)
-        raise PartFailed(f"part {name} failed: {type(exc).__name__}: {exc}") from exc
+        code = exc.exit_code if isinstance(exc, SilcountError) else 1
+        raise PartFailed(f"part {name} failed: {type(exc).__name__}: {exc}", code) from exc
 
 
 def _one_thread() -> None:
@@ -104,9 +117,9 @@ def _workers() -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    out: Path = args.out
-    if out.exists() and not out.is_dir():
-        raise BadArgument(f"--out {out}: not a directory")
+    from silcount.atomic import check_writable
+
+    out: Path = check_writable(args.out, folder=True)
     # the dearest first, so that no long part starts last (figures, then corpus: ~10 s each on one core)
     tasks: list[tuple[str, Callable[..., list[Path]], tuple]] = [
         (f"figure {name}", figures.report, (out, name)) for name in figures.PARTS

@@ -14,7 +14,10 @@ FORMATS = ("md", "csv", "tex")
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")
     parser.add_argument(
-        "--out", type=Path, default=None, help="write tables.md, tables.csv and tables.tex into this directory"
+        "--out",
+        type=Path,
+        default=None,
+        help="write tables.md, tables.csv and tables.tex into this directory (missing folders are created)",
     )
     parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
@@ -27,6 +30,7 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.papers.plugins import chosen
     from silcount.papers.tables import format_tables, write_all
 
@@ -34,6 +38,7 @@ def run(args: argparse.Namespace) -> int:
     if args.paper and not any(p.tables for p in papers or ()):
         print(f"silcount: {', '.join(p.label for p in papers or ())}: no operation-count table", file=sys.stderr)
     if args.out is not None:
+        check_writable(args.out, folder=True)
         for path in write_all(args.out, papers):
             print(path)
     else:

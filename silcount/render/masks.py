@@ -30,10 +30,8 @@ from silcount.errors import BadArgument, UnreadableInput
 
 
 def write_png(path: str | os.PathLike, pixels: np.ndarray) -> Path:
-    """Write a (H, W) uint8 or (H, W, 3) uint8 image atomically; returns the path."""
+    """Write a (H, W) uint8 or (H, W, 3) uint8 image atomically (missing folders created); returns the path."""
     p = Path(path)
-    if not p.parent.exists():
-        raise BadArgument(f"{p}: directory {p.parent} does not exist")
     with atomic_path(p) as tmp:
         Image.fromarray(np.ascontiguousarray(pixels)).save(tmp, format="PNG", optimize=False)
     return p
