@@ -28,9 +28,11 @@ $(STAMP): pyproject.toml constraints.txt
 
 install: $(STAMP)
 
-## The main job: regenerate everything under reports/ from built-in data.
+## The main job: regenerate everything under reports/ from built-in data, then the literature's claims, a paper
+## given as data (examples/literature-paper/), read with --paper as a user's paper is.
 report: $(STAMP)
 	$(BIN)/silcount report --out reports
+	$(BIN)/silcount claims --paper examples/literature-paper --no-render --out reports/literature-paper
 	$(BIN)/python scripts/readme_findings.py
 
 ## The test suite (meshes from ../shared/data when SILCOUNT_MESH_DIR is set).

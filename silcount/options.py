@@ -10,7 +10,9 @@ one home:
   methods of :mod:`silcount.render.methods` and the stencil paper's literal
   steps of :mod:`silcount.render.stencil`;
 * :data:`AUDIT_FORMATS`, :data:`DEFAULT_LIGHT_COUNT`, :data:`DEFAULT_SEED`:
-  :mod:`silcount.audit`'s layouts and default random lights.
+  :mod:`silcount.audit`'s layouts and default random lights;
+* :data:`PAPER_HELP`: ``--paper DIR`` of `claims`, `tables`, `figures` and `audit`
+  (:mod:`silcount.papers.plugins`).
 """
 
 from __future__ import annotations
@@ -21,3 +23,7 @@ VOLUMES: tuple[str, ...] = ("infinite", "truncated", "sides")
 AUDIT_FORMATS: tuple[str, ...] = ("text", "md", "json")
 DEFAULT_LIGHT_COUNT = 16
 DEFAULT_SEED = 0
+PAPER_HELP = (
+    "a paper given as a folder of TOML files (docs/papers-as-data.md; repeatable); default: the built-in papers and "
+    "those installed under the entry-point group silcount.papers"
+)

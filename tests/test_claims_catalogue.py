@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from silcount.counting import models
-from silcount.papers import claims, formulas, projection, tables
+from silcount.papers import claims, formulas, projection, registry, tables
 from silcount.papers.claims import base, cells
 from silcount.papers.quotes import check, papers_dir
 
@@ -24,7 +24,7 @@ def test_every_claim_is_located_quoted_and_judged(all_claims):
     assert len({c.key for c in all_claims}) == len(all_claims)
     for c in all_claims:
         assert c.verdict in claims.VERDICTS and c.reason and c.statement and c.quote, c.key
-        assert c.paper in base.PAPER_FILE.values(), c.key
+        assert c.paper in {p.text for p in registry.builtin()}, c.key
         assert c.verdict != claims.AMBIGUOUS or len(c.readings) >= 2, f"{c.key}: AMBIGUOUS needs readings"
         if c.readings:
             assert c.verdict == base.from_readings(c.readings), c.key
@@ -34,7 +34,7 @@ def test_every_quote_occurs_in_its_paper_at_its_lines(all_claims):
     root = papers_dir()
     if root is None or not root.is_dir():
         pytest.skip(f"paper texts not found ({'SILCOUNT_PAPERS_DIR is unset' if root is None else root})")
-    texts = {name: (root / name).read_text() for name in base.PAPER_FILE.values()}
+    texts = {p.text: p.text_path().read_text() for p in registry.builtin()}
     bad = [f"{c.key}: lines {c.lines}" for c in all_claims if not check(texts[c.paper], c.quote, c.lines)]
     assert not bad, bad
 
@@ -86,7 +86,7 @@ def test_verdict_follows_the_models(tmp_path, monkeypatch, by_key):
     """Correct the TA Read cell of EESD Table 1 in a copy of silcount/models/: its verdict must follow."""
     copy = tmp_path / "models"
     shutil.copytree(ROOT / "silcount" / "models", copy)
-    path = copy / "eesd2012-paper.toml"
+    path = copy / "papers" / "eesd2012" / "eesd2012-paper.toml"
     path.write_text(path.read_text().replace("read = 3110", "read = 3130"))
     monkeypatch.setenv("SILCOUNT_MODELS_DIR", str(copy))
     _clear_caches()

@@ -10,10 +10,11 @@ from __future__ import annotations
 import pytest
 
 from silcount.counting import models
-from silcount.papers.claims.base import CLAIM_FILES
+from silcount.papers import registry
 from silcount.papers.quotes import check, papers_dir
 
-ALGORITHMS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
+CLAIM_FILES = registry.claim_files()
+ALGORITHMS = tuple(name for p in registry.builtin() for name in p.algorithms)
 
 
 def _quotes():

@@ -61,7 +61,7 @@ def test_user_cycle_profile(tmp_path, capsys):
 
 def test_committed_reports_are_regenerated(tmp_path):
     written = claims.report(tmp_path)
-    assert [p.name for p in written] == ["claims.txt", "claims.md", "claims.json"]
+    assert [p.name for p in written] == ["claims.txt", "claims.md", "claims.json", "rules.md"]
     for p in written:
         assert (ROOT / "reports" / "claims" / p.name).read_text() == p.read_text(), (
             "reports/claims is stale: run silcount.papers.claims.report('reports')"

@@ -14,7 +14,7 @@ def _clear() -> None:
 
 def test_models_dir_override_is_used(tmp_path, monkeypatch):
     shutil.copytree(paper.models_dir(), tmp_path / "models")
-    toml = tmp_path / "models" / "eesd2012-vnv.toml"
+    toml = tmp_path / "models" / "papers" / "eesd2012" / "eesd2012-vnv.toml"
     text = toml.read_text()
     # EESD 2012 Sec. 5.2 charges the counter increment 1 A; a user's own model charges 5 A
     assert text.count('cost = { add = "1" }') == 1
@@ -48,4 +48,4 @@ def test_each_detector_is_priced_by_its_own_paper_model():
     mesh, light = silcount.builtin_mesh("tetrahedron"), silcount.PointLight((5.0, 5.0, 5.0))
     for name, model in expected.items():
         assert silcount.detect(mesh, light, name).paper_model == model
-        assert (paper.models_dir() / f"{model}.toml").is_file()
+        assert paper.model_path(model).is_file()

@@ -9,7 +9,9 @@ from hypothesis import strategies as st
 
 from silcount.counting import models as paper
 
-MODELS = sorted(p.stem for p in paper.models_dir().glob("*.toml") if "steps" in paper.load(p.stem))
+# silcount's own models and the built-in papers' (silcount/models/papers/<paper>/), each loaded by name
+FILES = [*paper.models_dir().glob("*.toml"), *paper.models_dir().glob("papers/*/*.toml")]
+MODELS = sorted(p.stem for p in FILES if p.name != "paper.toml" and "steps" in paper.load(p.stem))
 
 
 @pytest.mark.parametrize("model", MODELS)

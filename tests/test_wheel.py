@@ -25,8 +25,10 @@ import silcount
 from silcount.counting import models
 from silcount.cli.main import run
 from silcount.study import scale
+from silcount.papers import registry
 units = len(scale.load_profile().units)  # the sweep-time model's measurements ship too
-print(json.dumps({"file": silcount.__file__, "models": str(models.models_dir()), "units": units}))
+papers = {p.id: [str(models.model_path(n)) for n in (*p.algorithms, *p.tables, *p.claims)] for p in registry.builtin()}
+print(json.dumps({"file": silcount.__file__, "models": str(models.models_dir()), "units": units, "papers": papers}))
 sys.argv = ["silcount", "audit", sys.argv[1], "--detectors", "reference", "--random-lights", "1",
             "--format", "json", "--out", sys.argv[2], "--quiet"]
 run()
@@ -59,8 +61,11 @@ def test_a_wheel_installed_outside_the_tree_audits_a_mesh(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     where = json.loads(done.stdout.splitlines()[0])
     assert Path(where["file"]).is_relative_to(site)
-    assert Path(where["models"]).is_relative_to(site) and (Path(where["models"]) / "eesd2012-ta.toml").is_file()
+    shipped = Path(where["models"]) / "papers" / "eesd2012" / "eesd2012-ta.toml"  # a built-in paper's folder
+    assert Path(where["models"]).is_relative_to(site) and shipped.is_file()
     assert where["units"] > 0
+    assert sorted(where["papers"]) == ["eesd2012", "hsd2011", "stencil2011"]  # each a folder of package data
+    assert all(Path(f).is_relative_to(site) and Path(f).is_file() for files in where["papers"].values() for f in files)
     detectors = json.loads(out.read_text())["detectors"]
     assert set(detectors) == {"reference"}
     assert all(sum(d["tallies"]["paper"].values()) > 0 for d in detectors.values())

@@ -72,6 +72,9 @@ class AuditSettings:
     cycles: str = "paper"
     with_edges: bool = False
     with_time: bool = True
+    # (detector, model): the printed closed form set beside a detector's measurement when it is not the
+    # detector's own paper model, from a paper given with ``--paper DIR`` (docs/papers-as-data.md)
+    formulas: tuple[tuple[str, str], ...] = ()
 
 
 def winding_number(mesh: Mesh, point) -> float:
@@ -160,7 +163,7 @@ def _one_run(
         "tallies": tallies,
         "steps": dict(sorted(res.steps.items())),
         "cycles": {model: weighted(t, profile[1]) for model, t in tallies.items()},
-        "formula_printed": printed_formula(name, mesh, res.notes),
+        "formula_printed": printed_formula(name, mesh, res.notes, dict(settings.formulas).get(name)),
         "time_s": elapsed if settings.with_time else None,
     }
     _with_ratios(out, profile, 1)

@@ -37,8 +37,10 @@ def formula_point(detector: str, mesh: Mesh, notes: dict) -> tuple[float, float]
     return mesh.n_faces, mesh.mean_sides
 
 
-def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dict | None:
+def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None, model: str | None = None) -> dict | None:
     """The paper's printed closed form for ``detector`` at this mesh's ``n`` and ``m``, or ``None``.
+
+    ``model``: the algorithm file whose closed form it is (a paper given as data); default the detector's own.
 
     ``n`` is the papers' face count (they substitute ``f_n = n``, ``e_n = 6n``),
     ``m`` the mean sides per face; ``None`` for ``reference``, ``gaussmap`` and ``cones`` (their models
@@ -46,7 +48,7 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     """
     from silcount.detectors import get
 
-    model = get(detector).paper_model
+    model = model or get(detector).paper_model
     if model is None:
         return None
     spec = models.load(model)

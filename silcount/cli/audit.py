@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from silcount.errors import BadArgument
-from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED
+from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, PAPER_HELP
 
 if TYPE_CHECKING:
     from silcount.audit.compute import AuditSettings
@@ -96,6 +96,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="merge vertices closer than T (default 0: weld by exact position only)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def parse_vector(text: str, option: str) -> tuple[float, float, float]:
@@ -136,8 +137,34 @@ def settings_from(args: argparse.Namespace) -> AuditSettings:
             raise BadArgument("--detectors: the list is empty")
     variants = ("intended", "literal") if args.variant == "both" else (args.variant,)
     return AuditSettings(
-        detectors=chosen, variants=variants, engine=args.engine, cycles=args.cycles, with_edges=args.with_edges
+        detectors=chosen,
+        variants=variants,
+        engine=args.engine,
+        cycles=args.cycles,
+        with_edges=args.with_edges,
+        formulas=paper_formulas(args.paper or []),
     )
+
+
+def paper_formulas(folders: list[Path]) -> tuple[tuple[str, str], ...]:
+    """``(detector, model)`` of each algorithm of the ``--paper`` folders that prints a closed form for a detector."""
+    if not folders:
+        return ()
+    from silcount.counting import models
+    from silcount.detectors import names
+    from silcount.papers import plugins
+
+    out: dict[str, str] = {}
+    for paper in plugins.from_folders(folders):
+        for model in paper.algorithms:
+            spec = models.load(model)
+            detector = spec.get("algorithm")
+            if "closed_form" not in spec or detector not in names():
+                continue
+            if detector in out:
+                raise BadArgument(f"--paper: {out[detector]} and {model} both print a closed form for {detector}")
+            out[detector] = model
+    return tuple(sorted(out.items()))
 
 
 def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> list[Light]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from silcount.options import PAPER_HELP
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=("text", "md", "json"), default="text", help="output format (default text)")
@@ -19,6 +21,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="skip the render experiments (the stencil claims then say 'not measured'; verdicts unchanged)",
     )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="write claims.txt, claims.md, claims.json and rules.md into this directory instead of stdout",
+    )
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -30,8 +40,17 @@ def report(out_dir: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     from silcount.counting.cycles import load_profile
-    from silcount.papers.claims import default_evidence, format_claims
+    from silcount.papers.claims import default_evidence, format_claims, write_claims
+    from silcount.papers.plugins import chosen
 
+    papers = chosen(args.paper)
     profile = load_profile(args.cycles) if args.cycles else None
-    print(format_claims(args.format, profile, default_evidence(render=not args.no_render)), end="")
+    evidence = default_evidence(render=not args.no_render)
+    if args.out is not None:
+        from silcount.atomic import check_writable
+
+        for path in write_claims(check_writable(args.out, folder=True), evidence, papers):
+            print(path)
+    else:
+        print(format_claims(args.format, profile, evidence, papers), end="")
     return 0

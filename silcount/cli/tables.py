@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
+
+from silcount.options import PAPER_HELP
 
 FORMATS = ("md", "csv", "tex")
 
@@ -16,6 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="write tables.md, tables.csv and tables.tex into this directory (missing folders are created)",
     )
+    parser.add_argument("--paper", action="append", type=Path, default=None, metavar="DIR", help=PAPER_HELP)
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -27,12 +31,16 @@ def report(out_dir: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     from silcount.atomic import check_writable
+    from silcount.papers.plugins import chosen
     from silcount.papers.tables import format_tables, write_all
 
+    papers = chosen(args.paper)
+    if args.paper and not any(p.tables for p in papers or ()):
+        print(f"silcount: {', '.join(p.label for p in papers or ())}: no operation-count table", file=sys.stderr)
     if args.out is not None:
         check_writable(args.out, folder=True)
-        for path in write_all(args.out):
+        for path in write_all(args.out, papers):
             print(path)
     else:
-        print(format_tables(args.format), end="")
+        print(format_tables(args.format, papers), end="")
     return 0

@@ -7,7 +7,7 @@ kind its profile does not weigh.  Built-in profiles (``silcount/models/cycles/``
 
 * ``paper``: the EESD paper's printed weights (Sec. 6: "Mults 4 cycles, Adds 2
   cycles, Compares 3 cycles, Reads 1 cycle and Writes 2 cycles",
-  ``silcount/models/eesd2012-paper.toml``).  The paper gives no weight for a division
+  ``silcount/models/papers/eesd2012/eesd2012-paper.toml``).  The paper gives no weight for a division
   or a square root; a weight of 0 would let EESD's divisions and roots cost
   nothing, and refusing them would leave EESD's ``true`` tally without a
   paper-weighted total.  So ``div`` and ``sqrt`` get a labelled *extension*

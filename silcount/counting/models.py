@@ -39,11 +39,46 @@ def models_dir() -> Path:
     return Path(env) if env else Path(str(files("silcount") / "models"))
 
 
+_ADDED: dict[str, Path] = {}
+"""Model files of papers outside the package (``--paper DIR``, the ``silcount.papers`` entry points), by name."""
+
+
+def add_file(name: str, path: Path) -> None:
+    """Make ``load(name)`` read ``path``: a model file of a paper folder outside the package.
+
+    A name the package already has, or that another folder gave, is refused (ValueError): a name means one file.
+    """
+    if _ADDED.get(name, path) != path or (name not in _ADDED and _builtin_path(name).is_file()):
+        raise ValueError(f"model {name!r} ({path}) is already defined by {_ADDED.get(name) or _builtin_path(name)}")
+    _ADDED[name] = path
+    load.cache_clear()
+
+
+def drop_files(names) -> None:
+    """Forget the files :func:`add_file` gave these names (a paper found broken after it was read)."""
+    for name in names:
+        _ADDED.pop(name, None)
+    load.cache_clear()
+
+
+def _builtin_path(name: str) -> Path:
+    """``<models>/<name>.toml``, or ``<models>/papers/<paper>/<name>.toml`` (a built-in paper's folder)."""
+    root = models_dir()
+    found = sorted((root / "papers").glob(f"*/{name}.toml"))
+    return found[0] if found else root / f"{name}.toml"
+
+
+def model_path(name: str) -> Path:
+    """The file model ``name`` is read from (it need not exist: :func:`load` then raises FileNotFoundError)."""
+    return _ADDED.get(name) or _builtin_path(name)
+
+
 @cache
 def load(name: str) -> dict:
-    """The parsed TOML of ``silcount/models/<name>.toml``, or of the file ``name`` if it ends in ``.toml``
-    (a plug-in detector's own model, :class:`silcount.detectors.spec.DetectorSpec`)."""
-    path = Path(name) if name.endswith(".toml") else models_dir() / f"{name}.toml"
+    """The parsed TOML of model ``name`` (:func:`model_path`: a built-in paper's folder, ``silcount/models/``, a
+    folder added with :func:`add_file`, or the file ``name`` itself if it ends in ``.toml``: a plug-in detector's
+    own model, :class:`silcount.detectors.spec.DetectorSpec`)."""
+    path = Path(name) if name.endswith(".toml") else model_path(name)
     with open(path, "rb") as fh:
         return tomllib.load(fh)
 

@@ -88,6 +88,31 @@ def torus(major: float = 1.0, minor: float = 0.35, n_major: int = 24, n_minor: i
     return from_polygons(v, f, name="torus")
 
 
+def uv_sphere(slices: int, stacks: int) -> Mesh:
+    """A latitude-longitude unit sphere: ``slices`` meridians, ``stacks`` bands from pole to pole, the polar bands
+    closed by triangle fans and every other band's quads split: F = 2 x slices x (stacks - 1) triangles (Gooch et
+    al., I3D 1999, Table 1: 199 x 199 gives their 78,804-face sphere)."""
+    if slices < 3 or stacks < 2:
+        raise ValueError(f"a uv sphere needs slices >= 3 and stacks >= 2, got {slices} x {stacks}")
+    theta = np.pi * np.arange(1, stacks) / stacks  # the stacks - 1 rings between the poles
+    phi = 2 * np.pi * np.arange(slices) / slices
+    tt, pp = np.meshgrid(theta, phi, indexing="ij")
+    ring = np.stack([np.sin(tt) * np.cos(pp), np.sin(tt) * np.sin(pp), np.cos(tt)], axis=-1).reshape(-1, 3)
+    v = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]])
+    south = v.shape[0] - 1
+
+    def at(i: int, j: int) -> int:
+        return 1 + i * slices + j % slices
+
+    f = [[0, at(0, j), at(0, j + 1)] for j in range(slices)]
+    for i in range(stacks - 2):
+        for j in range(slices):
+            a, b, c, d = at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)
+            f += [[a, b, c], [a, c, d]]
+    f += [[south, at(stacks - 2, j + 1), at(stacks - 2, j)] for j in range(slices)]
+    return from_polygons(v, f, name=f"uv_sphere{slices}x{stacks}")
+
+
 BUILTIN: dict[str, Callable[[], Mesh]] = {
     "tetrahedron": tetrahedron,
     "quad_cube": quad_cube,

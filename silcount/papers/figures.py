@@ -15,7 +15,9 @@ PNG and SVG via matplotlib's Agg backend, with fixed metadata and
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -30,8 +32,10 @@ from silcount.papers import formulas as F  # noqa: E402
 from silcount.papers import growth as sweep  # noqa: E402
 from silcount.plots import STYLE, save_figure  # noqa: E402
 
+if TYPE_CHECKING:
+    from silcount.papers.registry import Paper
+
 POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
-ALGORITHMS = (("TA", "eesd2012-ta"), ("VnV", "eesd2012-vnv"), ("EESD", "eesd2012-eesd"), ("HSD", "hsd2011-hsd"))
 KINDS = (("mul", "Mult"), ("add", "Add"), ("cmp", "Compare"), ("read", "Read"), ("write", "Write"))
 COLOURS = {"TA": "#1b6ca8", "VnV": "#d1495b", "EESD": "#2e933c", "HSD": "#edae49", "reference": "#555555",
            "Gauss map": "#7b3294", "normal cones": "#00a6a6"}  # fmt: skip
@@ -41,18 +45,33 @@ def _value(model: str, which: str, point: dict) -> dict[str, float]:
     return {k: float(x) for k, x in F.evaluate(F.forms(model)[which], **point).items()}
 
 
-def operations(out_dir: Path) -> list[Path]:
+def algorithms(papers: "tuple[Paper, ...] | None" = None) -> tuple[tuple[str, str], ...]:
+    """``(label, model)`` of the algorithms the figures draw: each paper's ``figures`` (default: the built-ins)."""
+    from silcount.papers import registry
+
+    return tuple(f for p in (registry.builtin() if papers is None else papers) for f in p.figures)
+
+
+def _algorithm_colour(name: str, i: int) -> str:
+    """A paper algorithm's colour: :data:`COLOURS` by its label, else matplotlib's i-th."""
+    return COLOURS.get(name, f"C{i}")
+
+
+def operations(out_dir: Path, papers: "tuple[Paper, ...] | None" = None) -> list[Path]:
     """Operations by kind per algorithm, printed vs corrected, at each table point (log scale)."""
+    algos = algorithms(papers)
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), sharey="row")
-    width = 0.8 / len(ALGORITHMS)
+    width = 0.8 / len(algos)
     x = np.arange(len(KINDS))
     for row, point in enumerate(POINTS):
         for col, (which, title) in enumerate((("printed", "as printed"), ("corrected", "corrected"))):
             ax = axes[row, col]
-            for i, (name, model) in enumerate(ALGORITHMS):
+            for i, (name, model) in enumerate(algos):
                 vals = _value(model, which, point)
                 heights = [max(vals[k], 0.5) for k, _ in KINDS]
-                ax.bar(x + (i - 1.5) * width, heights, width, label=name, color=COLOURS[name])
+                ax.bar(
+                    x + (i - (len(algos) - 1) / 2) * width, heights, width, label=name, color=_algorithm_colour(name, i)
+                )
             ax.set_yscale("log")
             ax.set_xticks(x, [label for _, label in KINDS])
             ax.set_title(f"n = {point['n']}, m = {point['m']}: {title}")
@@ -64,33 +83,42 @@ def operations(out_dir: Path) -> list[Path]:
         "(a zero count is drawn at 0.5)"
     )
     fig.tight_layout(rect=(0, 0, 1, 0.93))
-    fig.legend(handles, labels, title="algorithm", ncols=4, loc="upper center", bbox_to_anchor=(0.5, 0.935), fontsize=9)
+    fig.legend(
+        handles,
+        labels,
+        title="algorithm",
+        ncols=len(algos),
+        loc="upper center",
+        bbox_to_anchor=(0.5, 0.935),
+        fontsize=9,
+    )
     return save_figure(fig, out_dir, "operations")
 
 
 CYCLE_PANELS = ("paper", "unit", "skylake-latency", "znver3-latency")
 
 
-def cycles(out_dir: Path) -> list[Path]:
+def cycles(out_dir: Path, papers: "tuple[Paper, ...] | None" = None) -> list[Path]:
     """Cycle-weighted totals per algorithm, printed vs corrected, for the paper's profile and CPU models.
 
     The latency profiles only (throughput and measured ones are in ``reports/calibrate/``), so that each
     panel stays readable.
     """
+    algos = algorithms(papers)
     profiles = {k: v for k, v in builtin_profiles().items() if k in CYCLE_PANELS}
     fig, axes = plt.subplots(len(POINTS), len(profiles), figsize=(2.9 * len(profiles) + 1, 6.5))
-    names = [name for name, _ in ALGORITHMS]
+    names = [name for name, _ in algos]
     x = np.arange(len(names))
     for row, point in enumerate(POINTS):
         for col, (pname, prof) in enumerate(profiles.items()):
             ax = axes[row, col]
             for j, (which, hatch) in enumerate((("printed", ""), ("corrected", "//"))):
-                tot = [prof.cycles(_value(model, which, point)) for _, model in ALGORITHMS]
+                tot = [prof.cycles(_value(model, which, point)) for _, model in algos]
                 ax.bar(
                     x + (j - 0.5) * 0.4,
                     tot,
                     0.4,
-                    color=[COLOURS[n] for n in names],
+                    color=[_algorithm_colour(n, i) for i, n in enumerate(names)],
                     hatch=hatch,
                     edgecolor="black",
                     linewidth=0.5,
@@ -259,7 +287,7 @@ def _growth_table(out_dir: Path) -> list[Path]:
 
 
 # Each writes its own files only, so `silcount report` runs them in parallel (dearest first).
-PARTS = {
+PARTS: dict[str, Callable[[Path], list[Path]]] = {
     "growth_by_kind": growth_by_kind,
     "operations": operations,
     "cycles": cycles,
@@ -284,3 +312,14 @@ def report(out_dir: Path, name: str) -> list[Path]:
 def write_all(out_dir: Path) -> list[Path]:
     """Write every figure (PNG and SVG) and the growth table into ``out_dir``."""
     return [path for name in PARTS for path in write_part(out_dir, name)]
+
+
+def write_papers(out_dir: Path, papers: "tuple[Paper, ...]") -> list[Path]:
+    """The figures drawn from ``papers``' own algorithms (operations and cycles), into ``out_dir``; none when
+    they name no algorithm for their figures (the measured growth plots are silcount's, drawn by :func:`write_all`)."""
+    if not algorithms(papers):
+        return []
+    out_dir = Path(out_dir)
+    make_folder(out_dir)
+    with plt.rc_context(STYLE):  # type: ignore[arg-type]
+        return operations(out_dir, papers) + cycles(out_dir, papers)

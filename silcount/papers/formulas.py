@@ -1,6 +1,6 @@
 """Re-derivation of the papers' closed forms with sympy.
 
-Each algorithm's model file (``silcount/models/<paper>-<algorithm>.toml``) gives the
+Each algorithm's model file (``silcount/models/papers/<paper>/<paper>-<algorithm>.toml``) gives the
 per-line costs as annotated (``cost``), how often the printed sum charges each
 line (``runs``), the pseudo-code's loop structure (``within`` the loops of
 ``[loops]``, reached on a ``branch`` fraction of their iterations), corrected

@@ -9,7 +9,7 @@ L onto the plane through C with normal N is
     X = L + alpha (P - L),   alpha = N.(C - L) / N.(P - L).
 
 :func:`analyse` decides, for each reading of E and D in
-``silcount/models/stencil2011-planar.toml``, whether the formula (and the matrix,
+``silcount/models/papers/stencil2011/stencil2011-planar.toml``, whether the formula (and the matrix,
 applied to (P, 1) and dehomogenised) equals X for every P; and solves for the
 E and D that make them exact.  Everything is symbolic (sympy), no sampling.
 """

@@ -33,7 +33,8 @@ from silcount.counting import models
 if TYPE_CHECKING:
     import pandas as pd
 
-TABLE_FILES = ("eesd2012-paper", "hsd2011-paper")
+    from silcount.papers.registry import Paper
+
 KIND_ORDER = ("mul", "add", "cmp", "read", "write")
 KIND_LABEL = {"mul": "Multiple", "add": "Add", "cmp": "Compare", "read": "Read", "write": "Write"}
 FORMATS = ("md", "csv", "tex")
@@ -74,12 +75,19 @@ def _int(x) -> int:
     return int(value)
 
 
+def table_files(papers: "tuple[Paper, ...] | None" = None) -> tuple[str, ...]:
+    """The table files of ``papers`` (default: the built-in papers), in the papers' order."""
+    from silcount.papers import registry
+
+    return tuple(name for p in (registry.builtin() if papers is None else papers) for name in p.tables)
+
+
 @cache
-def _rows() -> tuple[dict, ...]:
+def _rows(files: tuple[str, ...] | None = None) -> tuple[dict, ...]:
     from silcount.papers import formulas as F
 
     out = []
-    for paper_file in TABLE_FILES:
+    for paper_file in table_files() if files is None else files:
         data = models.load(paper_file)
         for table in data.get("tables", []):
             point = table["point"]
@@ -118,11 +126,12 @@ def _rows() -> tuple[dict, ...]:
     return tuple(out)
 
 
-def tables_frame() -> "pd.DataFrame":
-    """Every cell of every table (and every reading), in the papers' order, with the columns of :data:`COLUMNS`."""
+def tables_frame(papers: "tuple[Paper, ...] | None" = None) -> "pd.DataFrame":
+    """Every cell of every table (and every reading) of ``papers`` (default: the built-ins), in the papers' order,
+    with the columns of :data:`COLUMNS`."""
     import pandas as pd
 
-    df = pd.DataFrame(list(_rows()), columns=list(COLUMNS))
+    df = pd.DataFrame(list(_rows(None if papers is None else table_files(papers))), columns=list(COLUMNS))
     df["printed"] = df["printed"].astype("Int64")
     return df
 
@@ -168,8 +177,9 @@ def render_tex(df: "pd.DataFrame | None" = None) -> str:
 RENDER = {"md": render_md, "csv": render_csv, "tex": render_tex}
 
 
-def format_tables(fmt: str) -> str:
-    return RENDER[fmt]()
+def format_tables(fmt: str, papers: "tuple[Paper, ...] | None" = None) -> str:
+    """The tables of ``papers`` (default: the built-ins) as ``md``, ``csv`` or ``tex``."""
+    return RENDER[fmt](tables_frame(papers))
 
 
 def report(out_dir: Path) -> list[Path]:
@@ -177,9 +187,10 @@ def report(out_dir: Path) -> list[Path]:
     return write_all(Path(out_dir) / "tables")
 
 
-def write_all(out_dir: Path) -> list[Path]:
-    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` into ``out_dir``, all from one frame."""
+def write_all(out_dir: Path, papers: "tuple[Paper, ...] | None" = None) -> list[Path]:
+    """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` of ``papers`` (default: the built-ins) into
+    ``out_dir``, all from one frame."""
     out_dir = Path(out_dir)
     make_folder(out_dir)
-    df = tables_frame()
+    df = tables_frame(papers)
     return [write_text(out_dir / f"tables.{fmt}", RENDER[fmt](df)) for fmt in FORMATS]

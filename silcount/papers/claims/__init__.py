@@ -5,24 +5,24 @@ derivation), :mod:`.cells` (every printed table cell), :mod:`.comparisons`
 (pairs per table point, orderings, ratios), :mod:`.fps` (frame rates),
 :mod:`.inventory` (primitives, the mesh model, complexity), :mod:`.algorithms`
 (the algorithms and stencil steps as written, the projection),
-:mod:`.citations` (dates and attributions).  The prose claims are data in
-``silcount/models/<paper>-claims.toml``; their ``check`` names the rule.  The verdict
-rules are in ``docs/claims.md``.  Importing this package is cheap: sympy,
+:mod:`.citations` (dates and attributions).  The prose claims are data in each
+paper's claims files (:mod:`silcount.papers.registry`); their ``check`` names the
+rule (:mod:`.rules`).  The verdict rules are in ``docs/claims.md``.  Importing this package is cheap: sympy,
 pandas and the detectors load on the first call.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from silcount.papers.claims.base import AMBIGUOUS, CLAIM_FILES, FAILS, HOLDS, VERDICTS, Claim, Reading
+from silcount.papers.claims.base import AMBIGUOUS, FAILS, HOLDS, VERDICTS, Claim, Reading
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from silcount.counting.cycles import Profile
     from silcount.papers.claims.context import Evidence
+    from silcount.papers.registry import Paper
 
 
 def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
@@ -30,63 +30,42 @@ def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
     (:func:`silcount.papers.witness.witness_evidence`) and, with ``render``, the render experiments' pixel
     mismatches of the literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
     from silcount.papers import growth, witness
-    from silcount.papers.claims.context import Evidence
+    from silcount.papers.claims.context import Deferred, Evidence
 
     stencil = None
     if render:
         from silcount.render.experiments import stencil_step_evidence
 
         stencil = stencil_step_evidence()
-    return Evidence(
-        exponents=growth.icosphere_evidence(),
+    return Evidence(  # the sweeps run when a rule first reads them (the built-in papers' O() claims do)
+        exponents=Deferred(growth.icosphere_evidence),
         stencil=stencil,
         real=real,
-        worst=witness.witness_evidence(),
+        worst=Deferred(witness.witness_evidence),
     )
 
 
-def all_claims(evidence: "Evidence | None" = None) -> list[Claim]:
-    """Every claim, numbered, in a fixed order: derivations, table cells, then each paper's claims file.
+def all_claims(evidence: "Evidence | None" = None, papers: "tuple[Paper, ...] | None" = None) -> list[Claim]:
+    """Every claim of ``papers`` (default: the built-ins), numbered, in a fixed order: derivations, table cells,
+    then each paper's claims files, each entry judged by the rule its ``check`` names (:mod:`.rules`).
 
     ``evidence=None`` is ``default_evidence(render=False)``: the render experiments run only when asked
     for (``all_claims(default_evidence())``, as ``silcount claims`` and ``silcount report`` do); without
     them the stencil claims keep their verdicts, judged by their readings, and say "not measured".
     """
     from silcount.counting import models
-    from silcount.papers.claims import (
-        algorithms,
-        cells,
-        citations,
-        comparisons,
-        derivations,
-        facing,
-        fps,
-        inventory,
-        toggles,
-        trends,
-    )
+    from silcount.papers import registry
+    from silcount.papers.claims import cells, derivations
+    from silcount.papers.claims.rules import rules
 
+    chosen = registry.builtin() if papers is None else papers
     ev = default_evidence(render=False) if evidence is None else evidence
-    with_evidence: dict[str, Callable[[dict, str, Evidence], Claim]] = {
-        **inventory.RULES,
-        **facing.RULES,
-        **algorithms.RULES,
-        **toggles.RULES,
-        **citations.RULES,
-    }
-    plain: dict[str, Callable[[dict, str], Claim]] = {**comparisons.RULES, **trends.RULES, **fps.RULES}
-    multi: dict[str, Callable[[dict, str], list[Claim]]] = {**comparisons.MULTI, **fps.MULTI}
-    out = derivations.derivation_claims() + cells.cell_claims()
-    for name in CLAIM_FILES:
+    table = rules()
+    out = derivations.derivation_claims(chosen) + cells.cell_claims(chosen)
+    for name in (n for p in chosen for n in p.claims):
         data = models.load(name)
         for c in data.get("claims", []):
-            check, source = c["check"], data["source_file"]
-            if check in multi:
-                out += multi[check](c, source)
-            elif check in plain:
-                out.append(plain[check](c, source))
-            else:
-                out.append(with_evidence[check](c, source, ev))
+            out += table[c["check"]].judge(c, data["source_file"], ev)
     for i, claim in enumerate(out, start=1):
         claim.id = i
     _check_follows(out)
@@ -116,21 +95,34 @@ def findings_markdown(evidence: "Evidence | None" = None) -> str:
     return findings(all_claims(evidence if evidence is not None else default_evidence()))
 
 
-def format_claims(fmt: str, extra_profile: "Profile | None" = None, evidence: "Evidence | None" = None) -> str:
+def format_claims(
+    fmt: str,
+    extra_profile: "Profile | None" = None,
+    evidence: "Evidence | None" = None,
+    papers: "tuple[Paper, ...] | None" = None,
+) -> str:
     """The claims as ``text``, ``md`` or ``json`` (``extra_profile``: reported with the cycle orderings;
-    ``evidence``: as :func:`all_claims`)."""
+    ``evidence``, ``papers``: as :func:`all_claims`)."""
     from silcount.papers.claims.rendering import RENDER
 
-    return RENDER[fmt](all_claims(evidence), extra_profile)
+    return RENDER[fmt](all_claims(evidence, papers), extra_profile)
 
 
-def report(out_dir):
-    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}``, with the render experiments' evidence."""
+def write_claims(out_dir, evidence: "Evidence | None" = None, papers: "tuple[Paper, ...] | None" = None):
+    """``claims.{txt,md,json}`` and ``rules.md`` of ``papers`` (default: the built-ins) into ``out_dir``."""
     from pathlib import Path
 
     from silcount.papers.claims.rendering import write_all
 
-    return write_all(all_claims(default_evidence()), Path(out_dir) / "claims")
+    return write_all(all_claims(evidence, papers), Path(out_dir))
+
+
+def report(out_dir):
+    """The committed outputs: ``<out_dir>/claims/claims.{txt,md,json}`` and ``rules.md``, with the render
+    experiments' evidence."""
+    from pathlib import Path
+
+    return write_claims(Path(out_dir) / "claims", default_evidence())
 
 
 __all__ = [
@@ -146,4 +138,5 @@ __all__ = [
     "findings_markdown",
     "format_claims",
     "report",
+    "write_claims",
 ]

@@ -16,13 +16,6 @@ from silcount.detectors import get
 
 HOLDS, FAILS, AMBIGUOUS = "HOLDS", "FAILS", "AMBIGUOUS"
 VERDICTS = (HOLDS, FAILS, AMBIGUOUS)
-CLAIM_FILES = ("eesd2012-claims", "hsd2011-claims", "stencil2011-claims")
-PAPER_FILE = {
-    "eesd2012": "eesd-2012-extended-edge-silhouette-detection.txt",
-    "hsd2011": "hsd-2011-hybrid-silhouette-detection.txt",
-    "stencil2011": "stencil-zbuffer-2011-real-time-shadow.txt",
-}
-PAPER_LABEL = {v: k for k, v in PAPER_FILE.items()}
 
 
 @dataclass
@@ -60,9 +53,14 @@ class Claim:
     # the key of the FAILS claim whose slip this FAILS restates at another place (a table cell computed from a
     # printed line that already fails, ...); "" for an independent erratum
     follows_from: str = ""
+    # the claims file's ``check`` that judged it ("" for a derivation or table-cell claim); not in the reports,
+    # so not in a claim's equality either (a claim read back from JSON is the claim)
+    check: str = field(default="", compare=False)
 
     @property
     def where(self) -> str:
+        if not self.lines:  # a paper silcount has no text of: its place is named as the paper names it
+            return self.section
         return f"Sec. {self.section}, lines {self.lines}"
 
     def as_json(self) -> dict:
@@ -178,10 +176,12 @@ def claim_from_data(c: dict, source: str, family: str, **judged) -> Claim:
         key=c["id"],
         family=family,
         paper=c.get("paper", source),
-        section=c["section"],
-        lines=c["lines"],
-        quote=c["quote"],
+        # a paper of several sources (the literature's) names each claim's own: "<citation>, <section>"
+        section=f"{c['citation']}, {c['section']}" if "citation" in c else c["section"],
+        lines=c.get("lines", ""),
+        quote=c.get("quote", ""),
         statement=c["statement"],
         printed=c["printed"],
+        check=c.get("check", ""),
         **judged,
     )

@@ -10,6 +10,8 @@ Measured counts (a named closed mesh near the point) are shown, never judged.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import sympy as sp
 
 from silcount.counting import models
@@ -17,6 +19,9 @@ from silcount.papers import formulas as F
 from silcount.papers import tables as T
 from silcount.papers.claims.base import FAILS, HOLDS, Claim
 from silcount.papers.claims.derivations import slip_of
+
+if TYPE_CHECKING:
+    from silcount.papers.registry import Paper
 
 KIND_OF = {label: kind for kind, label in T.KIND_LABEL.items()}
 
@@ -41,10 +46,11 @@ def _why(model: str, kind: str) -> str:
     return "; ".join(causes)
 
 
-def cell_claims() -> list[Claim]:
-    df = T.tables_frame()
+def cell_claims(papers: "tuple[Paper, ...] | None" = None) -> list[Claim]:
+    """A claim per printed cell of the tables of ``papers`` (default: the built-ins)."""
+    df = T.tables_frame(papers)
     out = []
-    for paper_file in T.TABLE_FILES:
+    for paper_file in T.table_files(papers):
         data = models.load(paper_file)
         for table in data.get("tables", []):
             for row in (r for r in table["rows"] if "cells" in r):

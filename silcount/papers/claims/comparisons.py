@@ -27,7 +27,6 @@ from silcount.counting.arithmetic import KINDS
 from silcount.papers import formulas as F
 from silcount.papers import primitives
 from silcount.papers.claims.base import (
-    CLAIM_FILES,
     Claim,
     Reading,
     algo,
@@ -38,6 +37,7 @@ from silcount.papers.claims.base import (
     show_readings,
     unit_weights,
 )
+from silcount.papers.claims.context import Evidence
 
 WEIGHTS = "the EESD paper's cycle weights"  # Sec. 6 (Mult 4, Add 2, Compare 3, Read 1, Write 2); HSD 2011 gives none
 SCALES = {"cycles": (WEIGHTS, paper_weights), "raw": ("raw operation counts", unit_weights)}
@@ -52,11 +52,14 @@ class ModelReading:
 
 
 def _primitive_entry(key: str) -> dict:
-    for name in CLAIM_FILES:
+    from silcount.papers import registry
+
+    names = registry.claim_files()
+    for name in names:
         for c in models.load(name).get("claims", []):
             if c["id"] == key:
                 return c
-    raise KeyError(f"no claim {key!r} in {', '.join(CLAIM_FILES)}")
+    raise KeyError(f"no claim {key!r} in {', '.join(names)}")
 
 
 @cache
@@ -143,7 +146,7 @@ def _threshold(diff: sp.Expr, var: sp.Symbol, what: str) -> str:
     return f"{what} for {var} {'<' if below else '>'} {float(r):.4g}"
 
 
-def pairwise(c: dict, source: str) -> list[Claim]:
+def pairwise(c: dict, source: str, ev: Evidence) -> list[Claim]:
     """``winner`` cheaper than ``other`` at each of ``points``, with cycle weights and as raw counts."""
     winner, other = c["winner"], c["other"]
     out = []
@@ -179,7 +182,7 @@ def pairwise(c: dict, source: str) -> list[Claim]:
     return out
 
 
-def cycle_ratio(c: dict, source: str) -> Claim:
+def cycle_ratio(c: dict, source: str, ev: Evidence) -> Claim:
     """``numerator / denominator`` cycles equal ``ratio`` (within ``tolerance``) at ``faces`` faces."""
     w = paper_weights()
     readings = []
@@ -220,9 +223,9 @@ def cycle_ratio(c: dict, source: str) -> Claim:
     )
 
 
-def joint_ratio(c: dict, source: str) -> Claim:
+def joint_ratio(c: dict, source: str, ev: Evidence) -> Claim:
     """Two cycle-ratio claims of one sentence, judged together under each reading."""
-    parts = [cycle_ratio({**c, **sub, "id": c["id"], "quote": c["quote"]}, source) for sub in c["ratios"]]
+    parts = [cycle_ratio({**c, **sub, "id": c["id"], "quote": c["quote"]}, source, ev) for sub in c["ratios"]]
     readings = []
     by_name = [{r.reading: r for r in p.readings} for p in parts[1:]]
     if any(set(named) != {r.reading for r in parts[0].readings} for named in by_name):
@@ -241,7 +244,7 @@ def joint_ratio(c: dict, source: str) -> Claim:
     )
 
 
-def equal_kinds(c: dict, source: str) -> Claim:
+def equal_kinds(c: dict, source: str, ev: Evidence) -> Claim:
     """The models' counts of ``kinds`` are equal at ``point``."""
     readings = []
     for name, combo in readings_of(*c["models"], kinds=tuple(c["kinds"])):
@@ -266,7 +269,7 @@ def equal_kinds(c: dict, source: str) -> Claim:
     )
 
 
-def differ_kinds(c: dict, source: str) -> Claim:
+def differ_kinds(c: dict, source: str, ev: Evidence) -> Claim:
     """Two models' counts of ``kind`` differ ("more different is in number of ...") at ``point``: once as any
     difference, once as a difference beyond ``negligible`` (relative to the larger count, ``negligible_note``)."""
     (a, b), kind, point = c["models"], c["kind"], c["point"]
@@ -290,9 +293,9 @@ def differ_kinds(c: dict, source: str) -> Claim:
 
 
 RULES = {
+    "pairwise": pairwise,
     "differ_kinds": differ_kinds,
     "cycle_ratio": cycle_ratio,
     "joint_ratio": joint_ratio,
     "equal_kinds": equal_kinds,
 }
-MULTI = {"pairwise": pairwise}

@@ -2,9 +2,36 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from functools import cached_property
+from typing import overload
 
 from silcount.papers.growth import Exponent
+
+
+class Deferred(Sequence[Exponent]):
+    """Exponents measured on first use: a paper whose rules never read them (a user's paper) never runs the sweep."""
+
+    def __init__(self, measure: Callable[[], tuple[Exponent, ...]]) -> None:
+        self._measure = measure
+
+    @cached_property
+    def _values(self) -> tuple[Exponent, ...]:
+        return tuple(self._measure())
+
+    @overload
+    def __getitem__(self, i: int) -> Exponent: ...
+    @overload
+    def __getitem__(self, i: slice) -> Sequence[Exponent]: ...
+    def __getitem__(self, i):
+        return self._values[i]
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def __iter__(self) -> Iterator[Exponent]:
+        return iter(self._values)
 
 
 @dataclass(frozen=True)
@@ -19,7 +46,7 @@ class Evidence:
     (:mod:`silcount.papers.witness`): lower bounds on the worst case, which judges an O() claim.
     """
 
-    exponents: tuple[Exponent, ...]
+    exponents: Sequence[Exponent]
     stencil: dict[str, dict] | None = None
     real: bool = False
-    worst: tuple[Exponent, ...] = ()
+    worst: Sequence[Exponent] = ()

@@ -20,6 +20,8 @@ figures use).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import sympy as sp
 
 from silcount.counting import models
@@ -28,7 +30,9 @@ from silcount.papers import formulas as F
 from silcount.papers.claims.base import Claim, Reading, algo, from_readings, show_readings, source_of
 from silcount.papers.quotes import SPAN_JOIN, parse_lines
 
-ALGORITHM_MODELS = ("eesd2012-ta", "eesd2012-vnv", "eesd2012-eesd", "hsd2011-ta", "hsd2011-vnv", "hsd2011-hsd")
+if TYPE_CHECKING:
+    from silcount.papers.registry import Paper
+
 POINTS = ({"n": 10, "m": 5}, {"n": 100, "m": 10})
 
 
@@ -218,9 +222,12 @@ def _end_to_end(model: str) -> Claim:
     )
 
 
-def derivation_claims() -> list[Claim]:
+def derivation_claims(papers: "tuple[Paper, ...] | None" = None) -> list[Claim]:
+    """The five claims of each algorithm model of ``papers`` (default: the built-ins), in the papers' order."""
+    from silcount.papers import registry
+
     out = []
-    for model in ALGORITHM_MODELS:
+    for model in (m for p in (registry.builtin() if papers is None else papers) for m in p.algorithms):
         chain = [
             _annotations(model),
             _step(model, 0, "line 1 -> line 2", "the substitution f_n = n, e_n = 6n"),

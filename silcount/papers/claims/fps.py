@@ -22,6 +22,7 @@ import sympy as sp
 from silcount.papers import formulas as F
 from silcount.papers.claims.base import Claim, Reading, algo, claim_from_data, judged_by_readings, paper_weights
 from silcount.papers.claims.comparisons import cycles_under, readings_of
+from silcount.papers.claims.context import Evidence
 
 
 def _n_readings(edges: int) -> list[tuple[str, sp.Expr]]:
@@ -35,7 +36,7 @@ def _n_readings(edges: int) -> list[tuple[str, sp.Expr]]:
     ]
 
 
-def frame_time(c: dict, source: str) -> list[Claim]:
+def frame_time(c: dict, source: str, ev: Evidence) -> list[Claim]:
     """Per reported figure: does the predicted detection time fit in the frame time?"""
     w, clock = paper_weights(), c["clock_ghz"] * 1e9
     out = []
@@ -67,7 +68,7 @@ def frame_time(c: dict, source: str) -> list[Claim]:
     return out
 
 
-def fps_order(c: dict, source: str) -> Claim:
+def fps_order(c: dict, source: str, ev: Evidence) -> Claim:
     """The FPS ordering against the cycle ordering of the papers' own model, per reading of the scene."""
     fps = c["fps"]
     by_fps = sorted(fps, key=lambda mdl: -fps[mdl])
@@ -93,7 +94,7 @@ def fps_order(c: dict, source: str) -> Claim:
     )
 
 
-def fps_consistency(c: dict, source: str) -> Claim:
+def fps_consistency(c: dict, source: str, ev: Evidence) -> Claim:
     """A figure reported for a conventional method against the stated maximum of the conventional methods."""
     over = [x for x in c["conventional"] if x > c["conventional_max"]]
     readings = [
@@ -117,7 +118,7 @@ def fps_consistency(c: dict, source: str) -> Claim:
     )
 
 
-def same_number(c: dict, source: str) -> Claim:
+def same_number(c: dict, source: str, ev: Evidence) -> Claim:
     """A number reported in two places is the same number."""
     same = len(set(c["values"])) == 1
     return claim_from_data(
@@ -131,5 +132,9 @@ def same_number(c: dict, source: str) -> Claim:
     )
 
 
-RULES = {"fps_order": fps_order, "fps_consistency": fps_consistency, "same_number": same_number}
-MULTI = {"frame_time": frame_time}
+RULES = {
+    "frame_time": frame_time,
+    "fps_order": fps_order,
+    "fps_consistency": fps_consistency,
+    "same_number": same_number,
+}

@@ -23,13 +23,14 @@ from silcount.papers.claims.comparisons import (
     cycles_under,
     readings_of,
 )
+from silcount.papers.claims.context import Evidence
 
 
 def _leading(model: str, reading: ModelReading, weights: tuple) -> sp.Expr:
     return sp.expand(F.leading(cycles_under(model, reading, weights)) / F.n**2)
 
 
-def fewest_asymptotic(c: dict, source: str) -> Claim:
+def fewest_asymptotic(c: dict, source: str, ev: Evidence) -> Claim:
     """``winner`` has the smallest leading cycle term as n grows, at each m of ``m_values``; with
     ``advantage_points`` (the two figures the sentence compares), also read as the winner's lead growing from the
     first point to the second: each other's cycles over the winner's larger at the second."""
@@ -89,7 +90,7 @@ def _advantage_readings(c: dict, w: tuple, scale: str = "") -> list[Reading]:
     return out
 
 
-def advantage_grows(c: dict, source: str) -> Claim:
+def advantage_grows(c: dict, source: str, ev: Evidence) -> Claim:
     """``winner``'s lead over each of ``others`` (their cost over its own) grows from the first of
     ``advantage_points`` to the second and ends above 1, under every reading (:func:`readings_of`), with cycle
     weights and as raw counts."""
@@ -104,7 +105,7 @@ def advantage_grows(c: dict, source: str) -> Claim:
     )
 
 
-def common_cost(c: dict, source: str) -> Claim:
+def common_cost(c: dict, source: str, ev: Evidence) -> Claim:
     """A cost the paper calls the same for ``charged``'s models: read as charged alike by their sums (``charged``
     maps a model to the step whose annotation includes it, ``""`` for none; ``cost_of`` names the claim that
     prices it; evaluated at ``point`` with the paper's substitutions), and as needed alike by the algorithms
@@ -131,7 +132,7 @@ def common_cost(c: dict, source: str) -> Claim:
     return judged_by_readings(c, source, "comparison", readings, c["reason_note"])
 
 
-def grows_with_m(c: dict, source: str) -> Claim:
+def grows_with_m(c: dict, source: str, ev: Evidence) -> Claim:
     """``winner`` gets faster as the sides per face grow from ``m_from`` to ``m_to`` at each of ``n_values``: read
     as its own cycles falling, and as its lead over each other (their cycles over its own) growing, ahead at the
     end (:func:`_lead_grows`); cycle weights."""
