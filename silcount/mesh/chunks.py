@@ -29,7 +29,7 @@ from silcount.errors import BadArgument, TooMuchWork
 WORK_ENV = "SILCOUNT_MAX_WORK"
 DEFAULT_MAX_WORK = 20_000_000_000  # elementary tests of one computation: a few minutes on 2 cores
 TARGET_S = 0.25  # a chunk's wall time aimed at
-FIRST = 1024  # items in the first chunk
+FIRST = 16  # items in the first chunk (doubled up to the target: a few chunks more, none too long)
 
 _LIMIT: contextvars.ContextVar[int | None] = contextvars.ContextVar("silcount_max_work", default=None)
 
@@ -77,10 +77,10 @@ class Meter:
             raise TooMuchWork(self.what, self.done, self.limit)
 
 
-def run_chunks(n: int, run: Callable[[int, int], int], meter: Meter | None = None) -> None:
+def run_chunks(n: int, run: Callable[[int, int], int], meter: Meter | None = None, first: int = FIRST) -> None:
     """``run(lo, hi)`` over consecutive ranges covering ``0 .. n``, each sized to take about :data:`TARGET_S`;
     ``run`` returns its elementary tests, added to ``meter``.  Between two calls Python handles signals."""
-    lo, size = 0, FIRST
+    lo, size = 0, first
     while lo < n:
         hi = min(n, lo + size)
         t0 = time.perf_counter()
