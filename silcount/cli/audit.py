@@ -20,8 +20,9 @@ from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSetti
 from silcount.audit.costs import cycle_profile
 from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
 from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, check_choice
+from silcount.errors import BadArgument, TooMuchWork, check_choice
 from silcount.mesh import shapes
+from silcount.mesh.chunks import limit_work, parse_work
 from silcount.mesh.io import load_mesh, parse_size
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
 from silcount.mesh.model import Mesh
@@ -92,6 +93,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="refuse meshes estimated to need more (e.g. 2G; default $SILCOUNT_MAX_MEMORY or free RAM)",
     )
     parser.add_argument(
+        "--max-work",
+        default=None,
+        metavar="N",
+        help="refuse a detector run whose elementary tests (ray-triangle, plane-point) pass N "
+        "(e.g. 1e12; default $SILCOUNT_MAX_WORK or 1e11; per light); the others are reported",
+    )
+    parser.add_argument(
         "--weld-tolerance",
         type=float,
         default=0.0,
@@ -154,22 +162,42 @@ def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fix
     )
 
 
+def refusals(audits: list[dict]) -> int:
+    """One line on stderr per refused run (the reports name them too); the exit code: 0, or
+    :class:`TooMuchWork`'s when some run was refused."""
+    lines = [
+        f"silcount audit: error: {a['source']}: {k} refused: {why}"
+        for a in audits
+        for k, why in a.get("refused", {}).items()
+    ]
+    for line in lines:
+        print(line, file=sys.stderr)
+    return TooMuchWork.exit_code if lines else 0
+
+
 def run(args: argparse.Namespace) -> int:
     settings = settings_from(args)
     fixed = explicit_lights(args)
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
+    max_work = parse_work(args.max_work, "--max-work") if args.max_work else None
     cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
+    with limit_work(max_work):
+        return _run(args, settings, fixed, max_memory)
+
+
+def _run(args: argparse.Namespace, settings: AuditSettings, fixed: list[Light], max_memory: int | None) -> int:
     if args.mesh is not None:
         if not args.weld_tolerance >= 0.0:
             raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
         mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
-        text = format_audit(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
+        audit = audit_one(mesh, args, settings, fixed, str(args.mesh))
+        text = format_audit(audit, args.format)
         if args.out is None:
             sys.stdout.write(text)
         else:
             write_atomic(args.out, text)
             print(f"wrote {args.out}", file=sys.stderr)
-        return 0
+        return refusals([audit])
     audits = []
     for name in shapes.BUILTIN:
         audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
@@ -184,4 +212,4 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
     else:
         sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
-    return 0
+    return refusals([a for _, a in audits])

@@ -27,7 +27,9 @@ from collections.abc import Callable, Iterator
 from silcount.errors import BadArgument, TooMuchWork
 
 WORK_ENV = "SILCOUNT_MAX_WORK"
-DEFAULT_MAX_WORK = 20_000_000_000  # elementary tests of one computation: a few minutes on 2 cores
+# tests of one computation (one light's rays, one light's plane walk): some 10-20 min on 2 cores; EESD
+# literal on a 1 M-face torus makes 2.8e10, the rays of every light on it 1.7e7
+DEFAULT_MAX_WORK = 100_000_000_000
 TARGET_S = 0.25  # a chunk's wall time aimed at
 FIRST = 16  # items in the first chunk (doubled up to the target: a few chunks more, none too long)
 
