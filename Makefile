@@ -37,11 +37,11 @@ report: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
-## ruff (lint and format check) and mypy on the package and the scripts: zero findings.
+## ruff (lint and format check) and mypy on the package, the scripts and the benchmarks: zero findings.
 lint: $(STAMP)
-	$(BIN)/ruff check silcount tests scripts
-	$(BIN)/ruff format --check silcount scripts
-	$(BIN)/mypy silcount scripts
+	$(BIN)/ruff check silcount tests scripts benchmarks
+	$(BIN)/ruff format --check silcount scripts benchmarks
+	$(BIN)/mypy silcount scripts benchmarks
 
 ## Mutation testing (slow, not part of CI): mutmut 2 over the detectors, the counting layer (arithmetic, the
 ## cost-model loader models.py, cycles) and the re-derivation (papers/formulas.py), each module judged by its own

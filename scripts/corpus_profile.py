@@ -1,9 +1,11 @@
 """Measure the inputs of the sweep-time model (silcount/study/scale.py) and write its profile JSON.
 
-    python scripts/corpus_profile.py [CORPUS_DIR] [--out silcount/models/measured/corpus-profile.json]
+    python -m scripts.corpus_profile [CORPUS_DIR] [--out silcount/models/measured/corpus-profile.json]
+
+(from the checkout's root: it runs the sweep of :mod:`benchmarks.corpus`)
 
 On the shared corpus (``SILCOUNT_CORPUS_DIR``, else the folder given) with the settings of
-``scripts/bench_corpus.py`` (level 0, 64 directional lights, every detector, ``intended``, ``fast``, no
+``benchmarks/corpus.py`` (level 0, 64 directional lights, every detector, ``intended``, ``fast``, no
 plain-loop timing), in one run:
 
 1. every unit in this process on one numba thread, after a warm-up, in the sweep's order: its seconds
@@ -15,7 +17,7 @@ plain-loop timing), in one run:
    (after a first one that starts the process pool);
 4. the client's work per unit: writing each result's cache entry (during the sweep), and a sweep over
    a full cache (its frames and fits, after it), per unit;
-5. the real sweep at ``1x1`` and ``2`` (``bench_corpus.run_config``, fresh processes), ``REPEAT``
+5. the real sweep at ``1x1`` and ``2`` (``benchmarks.corpus.run_config``, fresh processes), ``REPEAT``
    times each: the mean walls the model is checked against (every run is kept in the profile).
 
 It prints the model's check and estimate from what it measured.  Timings on a shared machine are noisy.
@@ -37,8 +39,8 @@ from datetime import date
 from pathlib import Path
 
 import numba
-from bench_corpus import corpus_dir, run_config
 
+from benchmarks.corpus import corpus_dir, run_config
 from silcount.study import find_files, scale, schedule
 from silcount.study.cache import Cache, cache_key
 from silcount.study.work import Settings, audit_task

@@ -1,10 +1,11 @@
-"""Regenerate the README's findings table from the claims (run by `make report`, after `silcount report`).
+"""Regenerate the README's verdict counts and docs/findings.md's tables from the claims (run by `make report`,
+after `silcount report`).
 
-The block between ``<!-- findings:start -->`` and ``<!-- findings:end -->`` in
-README.md is replaced by the findings of the claims `silcount report` has just
-written (``reports/claims/claims.json``, read back rather than judged again,
-render experiments included), so the README never carries a typed verdict;
-``tests/test_readme.py`` checks it against :func:`silcount.papers.claims.findings_markdown`.
+Two blocks between ``<!-- findings:start -->`` and ``<!-- findings:end -->`` are replaced by the findings of
+the claims `silcount report` has just written (``reports/claims/claims.json``, read back rather than judged
+again, render experiments included): in README.md the verdict counts per paper, in docs/findings.md the counts,
+every FAILS with its numbers and the failed attributions.  Neither page carries a typed verdict;
+``tests/test_readme.py`` checks both against :func:`silcount.papers.claims.findings_markdown`.
 """
 
 from __future__ import annotations
@@ -18,33 +19,37 @@ from silcount.papers.claims.base import Claim
 from silcount.papers.claims.rendering import findings as findings_table
 
 START, END = "<!-- findings:start -->", "<!-- findings:end -->"
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = ("README.md", "docs/findings.md")
 
 
-def block(findings: str) -> str:
-    """The README's block: the verdict counts, then every FAILS under a fold."""
-    counts, _, rest = findings.partition("\n\n")
-    return (
-        f"{START}\n{counts.strip()}\n\n<details><summary>Every FAILS verdict, with its numbers "
-        f"(generated from the claims)</summary>\n\n{rest.strip()}\n\n</details>\n{END}"
-    )
+def counts(findings: str) -> str:
+    """The README's block: the verdict counts per paper (the findings' first table)."""
+    return findings.partition("\n\n")[0].strip()
 
 
-def splice(readme: str, findings: str) -> str:
-    head, sep, tail = readme.partition(START)
+def block(page: str, findings: str) -> str:
+    """The generated text of ``page`` (one of :data:`PAGES`), between the markers."""
+    return f"{START}\n{counts(findings) if page == 'README.md' else findings.strip()}\n{END}"
+
+
+def splice(page: str, text: str, findings: str) -> str:
+    head, sep, tail = text.partition(START)
     if not sep or END not in tail:
-        raise SystemExit(f"README.md has no {START} ... {END} block")
-    return head + block(findings) + tail.partition(END)[2]
+        raise SystemExit(f"{page} has no {START} ... {END} block")
+    return head + block(page, findings) + tail.partition(END)[2]
 
 
 def main() -> int:
-    root = Path(__file__).resolve().parents[1]
-    path = root / "README.md"
-    claims = [Claim.from_json(d) for d in json.loads((root / "reports" / "claims" / "claims.json").read_text())]
-    text = path.read_text()
-    new = splice(text, findings_table(claims))
-    if new != text:
-        write_text(path, new)
-    print(f"README.md findings: {'updated' if new != text else 'unchanged'}")
+    claims = [Claim.from_json(d) for d in json.loads((ROOT / "reports" / "claims" / "claims.json").read_text())]
+    findings = findings_table(claims)
+    for page in PAGES:
+        path = ROOT / page
+        text = path.read_text()
+        new = splice(page, text, findings)
+        if new != text:
+            write_text(path, new)
+        print(f"{page} findings: {'updated' if new != text else 'unchanged'}")
     return 0
 
 

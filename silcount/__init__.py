@@ -20,10 +20,37 @@ frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
 from __future__ import annotations
 
 import importlib
+import os
+import sys
 from typing import TYPE_CHECKING, Any
 
 from silcount.errors import BadArgument, InvalidMesh, SilcountError, UnreadableInput
 from silcount.version import __version__
+
+
+def _numba_cache_default() -> None:
+    """Point numba's cache of compiled kernels outside the source tree unless ``NUMBA_CACHE_DIR`` is set.
+
+    In a virtual environment it is ``<venv>/cache/numba``, where ``make``'s install step compiles every
+    kernel once (the ``silcount`` command's own default); otherwise ``$XDG_CACHE_HOME/silcount/numba``
+    (``~/.cache/silcount/numba``).  Without it numba writes ``*.nbi``/``*.nbc`` files into
+    ``silcount/*/__pycache__`` and a library user compiles everything again.  numba reads its settings
+    when it is imported and again before each compilation, so an earlier ``import numba`` is told too.
+    """
+    if "NUMBA_CACHE_DIR" in os.environ:  # the user's (or the Makefile's) choice
+        return
+    if sys.prefix != sys.base_prefix:
+        folder = os.path.join(sys.prefix, "cache", "numba")
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        folder = os.path.join(base, "silcount", "numba")
+    os.environ["NUMBA_CACHE_DIR"] = folder
+    config = sys.modules.get("numba.core.config")
+    if config is not None:
+        config.reload_config()
+
+
+_numba_cache_default()
 
 # public name -> the module that defines it
 _LAZY: dict[str, str] = {

@@ -22,6 +22,13 @@ class UnreadableInput(SilcountError):
     exit_code = 3
 
 
+class UnwritableOutput(SilcountError):
+    """An output cannot be written (a folder that cannot be made, a directory in the way, no permission, a full
+    disk); see :mod:`silcount.atomic` for the rule every command follows."""
+
+    exit_code = 3
+
+
 class InvalidMesh(SilcountError):
     """The file parsed, but the geometry cannot be audited (NaN/Inf, bad indices, no faces, too large)."""
 

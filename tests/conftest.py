@@ -57,3 +57,17 @@ def shared_mesh():
         return silcount.load_mesh(path, weld_tolerance=weld_tolerance)
 
     return get
+
+
+@pytest.fixture(scope="session")
+def all_claims():
+    """Every claim, judged with the render experiments, as the report judges them (``tests/test_claims_*.py``)."""
+    from silcount.papers import claims
+
+    return claims.all_claims(claims.default_evidence())
+
+
+@pytest.fixture(scope="session")
+def by_key(all_claims):
+    """The claims by key."""
+    return {c.key: c for c in all_claims}

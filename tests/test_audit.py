@@ -17,11 +17,12 @@ from test_engines import expected_edges, facing, reference_edges
 
 import silcount
 from silcount import DirectionalLight, PointLight, from_polygons
-from silcount.audit.compute import AuditSettings, random_lights, run_audit, winding_number
+from silcount.audit.compute import DEFAULT_LIGHT_COUNT, AuditSettings, run_audit, winding_number
 from silcount.audit.layout import format_audit
 from silcount.cli import report as report_cmd
 from silcount.counting.arithmetic import KINDS
 from silcount.detectors import DETECTORS, LITERATURE
+from silcount.mesh.lights import random_lights
 from silcount.mesh.stats import mesh_statistics
 from silcount.progress import progress
 
@@ -74,12 +75,14 @@ def test_open_plane_counts_its_boundary():
 # ---- lights --------------------------------------------------------------------------------------
 def test_default_lights_are_sixteen_on_the_three_radius_sphere_and_seeded():
     mesh = silcount.builtin_mesh("torus")
-    lights = random_lights(mesh)
+    lights = random_lights(mesh, DEFAULT_LIGHT_COUNT)
     assert len(lights) == 16
     dist = [np.linalg.norm(np.asarray(l.position) - mesh.centre) for l in lights]
     assert np.allclose(dist, 3 * mesh.bounding_radius)
-    assert [l.position for l in random_lights(mesh)] == [l.position for l in lights]
-    assert [l.position for l in random_lights(mesh, seed=1)] != [l.position for l in lights]
+    assert [l.position for l in random_lights(mesh, 16)] == [l.position for l in lights]
+    assert [l.position for l in random_lights(mesh, 16, seed=1)] != [l.position for l in lights]
+    unlit = run_audit(mesh, [], AuditSettings(detectors=("reference",), with_time=False), quiet=True)
+    assert [tuple(l["position"]) for l in unlit["lights"]] == [l.position for l in lights]
 
 
 def test_winding_number_inside_outside_and_open():
@@ -280,7 +283,7 @@ SMALL = ("tetrahedron", "quad_cube")
 
 
 def test_report_audits_are_deterministic_and_match_the_committed_ones(tmp_path, monkeypatch):
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", SMALL)
+    monkeypatch.setattr(report_cmd, "report_meshes", lambda: SMALL)
     first = report_cmd.report(tmp_path / "a")
     second = report_cmd.report(tmp_path / "b")
     assert [p.read_bytes() for p in first] == [p.read_bytes() for p in second]

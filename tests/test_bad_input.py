@@ -7,29 +7,20 @@ Every bad file is generated here, in tmp_path.
 
 from __future__ import annotations
 
-import io
 import json
 import struct
 import subprocess
 import sys
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
+from common import run_cli
 from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
 
 from silcount.audit.layout import write_atomic
-from silcount.cli.main import main
 
 QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
 QUAD_CUBE_F = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
-
-
-def run_cli(*argv: str) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        rc = main(list(argv))
-    return rc, out.getvalue(), err.getvalue()
 
 
 def audit(path: Path, *extra: str) -> tuple[int, str, str]:
@@ -171,8 +162,9 @@ def test_every_face_degenerate(tmp_path):
 
 def test_too_large_for_memory_refused_early_with_the_estimate(tmp_path, monkeypatch):
     p = write(tmp_path, "big.obj", tetra_bytes("obj"))
-    err = assert_refused(p, 4, "too large", "4 faces", "MiB", extra=("--max-memory", "1K"))
-    assert "limit of 0.0 MiB" in err
+    err = assert_refused(p, 4, "too large", "4 faces", extra=("--max-memory", "1K"))
+    # by hand: 4 vertices x 512 B + 4 faces x 1 KiB = 6144 B, against 1024 B (it said "0.0 MiB" of both)
+    assert "need about 6.0 KiB, over the limit of 1.0 KiB" in err
     monkeypatch.setenv("SILCOUNT_MAX_MEMORY", "2K")
     assert_refused(p, 4, "too large")
     monkeypatch.setenv("SILCOUNT_MAX_MEMORY", "64M")
@@ -333,3 +325,33 @@ def test_valid_gltf_loads_as_the_mesh_it_was_written_from(tmp_path, ext):
     loaded = silcount.load_mesh(path)
     assert (loaded.n_vertices, loaded.n_faces, loaded.n_edges) == (12, 20, 30)
     assert loaded.is_watertight
+
+
+# ---- messages that name the real problem (issue 44) ----------------------------------------------
+def test_the_nan_vertex_is_counted_from_one_as_obj_users_count(tmp_path):
+    text = obj_text(TETRA_V, TETRA_F)
+    assert "v -1.0 -1.0 1.0" in text  # the 4th vertex of the file (its 4th line); it said "vertex 3"
+    p = write(tmp_path, "nan4.obj", text.replace("v -1.0 -1.0 1.0", "v -1.0 nan 1.0"))
+    assert_refused(p, 4, "NaN or Inf", "first: vertex 4, counting from 1")
+
+
+def test_a_symbolic_link_loop_is_not_a_missing_file(tmp_path):
+    (tmp_path / "a.obj").symlink_to(tmp_path / "b.obj")
+    (tmp_path / "b.obj").symlink_to(tmp_path / "a.obj")
+    err = assert_refused(tmp_path / "a.obj", 3, "Too many levels of symbolic links")
+    assert "no such file" not in err
+    (tmp_path / "dangling.obj").symlink_to(tmp_path / "gone.obj")
+    assert_refused(tmp_path / "dangling.obj", 3, f"a symbolic link to {tmp_path / 'gone.obj'}, which does not exist")
+
+
+def test_a_gltf_whose_buffer_file_is_missing_names_it(tmp_path):
+    import trimesh
+
+    files = trimesh.Trimesh(TETRA_V, TETRA_F, process=False).export(file_type="gltf")  # a second implementation
+    for name, data in files.items():
+        (tmp_path / name).write_bytes(data)
+    buffers = sorted(n for n in files if n.endswith(".bin"))
+    assert buffers and run_cli("audit", str(tmp_path / "model.gltf"), "--quiet")[0] == 0
+    (tmp_path / buffers[0]).unlink()
+    err = assert_refused(tmp_path / "model.gltf", 3, f"the file {buffers[0]} it refers to is missing")
+    assert "not a valid" not in err

@@ -97,3 +97,19 @@ def test_the_tables_read_from_the_modules_name_the_papers_and_their_quadratic_lo
 
     assert PAPERS == ("ta", "vnv", "hsd", "eesd") and LITERATURE == ("gaussmap", "cones")
     assert PLAIN_QUADRATIC == ("vnv", "eesd")
+
+
+def test_runs_name_each_distinct_run_as_the_reports_do():
+    """The run keys of ``silcount audit`` and ``silcount corpus``, by hand: one run for a one-variant detector."""
+    from silcount.detectors import is_reference_run, runs
+
+    got = runs(("reference", "ta", "cones"), ("intended", "literal"))
+    assert got == [
+        ("reference", "reference", "intended"),
+        ("ta", "ta", "intended"),
+        ("ta:literal", "ta", "literal"),
+        ("cones", "cones", "intended"),
+    ]
+    assert runs(("hsd",), ("literal",)) == [("hsd:literal", "hsd", "literal")]
+    assert is_reference_run("reference", "fast") and not is_reference_run("reference", "naive")
+    assert not is_reference_run("ta", "fast")

@@ -2,24 +2,15 @@
 
 from __future__ import annotations
 
-import io
 import json
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
+from common import run_cli
 from meshfiles import tetra_bytes, write
 
 import silcount
 from silcount.cli import report as report_cmd
-from silcount.cli.main import main
-
-
-def run_cli(*argv: str) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        rc = main(list(argv))
-    return rc, out.getvalue(), err.getvalue()
 
 
 @pytest.fixture
@@ -140,7 +131,7 @@ def test_no_mesh_audits_every_builtin_mesh(tmp_path):
 
 
 def test_report_runs_each_part_and_prints_where_it_wrote(tmp_path, monkeypatch):
-    monkeypatch.setattr(report_cmd, "REPORT_MESHES", ("tetrahedron",))
+    monkeypatch.setattr(report_cmd, "report_meshes", lambda: ("tetrahedron",))
     monkeypatch.setattr(report_cmd, "PARTS", ())
     rc, out, _ = run_cli("report", "--out", str(tmp_path))
     assert rc == 0

@@ -1,6 +1,6 @@
 """The package's architecture, checked: imports point down the layers, no cycles, small modules, lazy imports.
 
-Layers, lowest first (README, "Layout"): a module may import its own
+Layers, lowest first (docs/architecture.md, "Layers"): a module may import its own
 subpackage and any lower layer, never a higher one or a sibling of its layer,
 so that the units of one layer are independent of each other (the
 "layers" and "independence" contracts of import-linter, in one table).
@@ -9,6 +9,7 @@ so that the units of one layer are independent of each other (the
 from __future__ import annotations
 
 import ast
+import importlib
 import json
 import os
 import subprocess
@@ -17,10 +18,14 @@ from pathlib import Path
 
 import pytest
 
+from silcount import options
+from silcount.cli.main import COMMANDS
+
 PKG = Path(__file__).resolve().parent.parent / "silcount"
 
 LAYERS: list[tuple[str, ...]] = [
-    ("silcount.errors", "silcount.version", "silcount.atomic", "silcount.progress"),
+    ("silcount.errors", "silcount.version", "silcount.options"),
+    ("silcount.atomic", "silcount.progress"),  # atomic raises silcount.errors' UnwritableOutput
     ("silcount.plots", "silcount.counting", "silcount.mesh"),  # independent of each other
     ("silcount.detectors",),
     ("silcount.render", "silcount.study", "silcount.calibrate"),  # the measurements, independent of each other
@@ -140,33 +145,203 @@ def test_modules_are_small(name):
 
 
 SCRIPTS = PKG.parent / "scripts"
+BENCHMARKS = PKG.parent / "benchmarks"
+MUTATORS = {"insert", "append", "extend", "remove", "pop", "clear", "reverse", "sort", "__setitem__", "__iadd__"}
+PATH_LOADERS = {  # (module, attribute) that import a file by its path, around sys.path
+    ("importlib.util", "spec_from_file_location"),
+    ("importlib.machinery", "SourceFileLoader"),
+    ("importlib.machinery", "SourcelessFileLoader"),
+    ("runpy", "run_path"),
+    ("site", "addsitedir"),
+    ("imp", "load_source"),
+}
 
 
-@pytest.mark.parametrize("path", sorted(SCRIPTS.glob("*.py")), ids=lambda p: p.name)
+def _dotted(node: ast.AST) -> str | None:
+    """``a.b.c`` for a chain of names and attributes, else None."""
+    parts = []
+    while isinstance(node, ast.Attribute):
+        parts.append(node.attr)
+        node = node.value
+    if not isinstance(node, ast.Name):
+        return None
+    return ".".join([node.id, *reversed(parts)])
+
+
+def path_edits(source: str) -> list[str]:
+    """Every place ``source`` changes ``sys.path`` or loads a module by its file path, as ``line N: what``.
+
+    Read from the syntax tree, not the text, so no spelling escapes it: ``sys.path`` under any alias
+    (``import sys as s``, ``from sys import path``, ``p = sys.path``) assigned, augmented, sliced, deleted
+    from or called with a mutating method; and the path loaders of importlib, runpy and site under any
+    import form.  A string that is itself Python (code for ``python -c``) is read the same way.
+    """
+    tree = ast.parse(source)
+    names: dict[str, str] = {}  # local name -> the dotted name it stands for
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                names[a.asname or a.name.partition(".")[0]] = a.name if a.asname else a.name.partition(".")[0]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            for a in node.names:
+                names[a.asname or a.name] = f"{node.module}.{a.name}"
+
+    def resolve(node: ast.AST) -> str | None:
+        dotted = _dotted(node)
+        if dotted is None:
+            return None
+        head, _, rest = dotted.partition(".")
+        full = names.get(head, head)
+        return f"{full}.{rest}" if rest else full
+
+    for node in ast.walk(tree):  # aliases of sys.path itself: ``p = sys.path``
+        if isinstance(node, ast.Assign) and resolve(node.value) == "sys.path":
+            names.update({t.id: "sys.path" for t in node.targets if isinstance(t, ast.Name)})
+
+    def is_path(node: ast.AST) -> bool:
+        while isinstance(node, ast.Subscript):
+            node = node.value
+        return resolve(node) == "sys.path"
+
+    found = []
+    for node in ast.walk(tree):
+        line = getattr(node, "lineno", 0)
+        targets: list[ast.AST] = []
+        if isinstance(node, ast.Assign):
+            targets = [t for t in node.targets if not (isinstance(t, ast.Name) and resolve(node.value) == "sys.path")]
+        elif isinstance(node, ast.AugAssign | ast.AnnAssign | ast.Delete):
+            targets = node.targets if isinstance(node, ast.Delete) else [node.target]
+        for t in targets:
+            for sub in ast.walk(t):
+                if is_path(sub) and not isinstance(sub, ast.Name | ast.Attribute) or resolve(sub) == "sys.path":
+                    found.append(f"line {line}: assigns to sys.path")
+                    break
+        if isinstance(node, ast.Call):
+            func = node.func
+            if isinstance(func, ast.Attribute) and func.attr in MUTATORS and is_path(func.value):
+                found.append(f"line {line}: sys.path.{func.attr}(...)")
+            target = resolve(func)
+            if target and any(target == f"{m}.{a}" for m, a in PATH_LOADERS):
+                found.append(f"line {line}: {target}(...) loads a file by its path")
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and "\n" in node.value:
+            try:
+                inner = path_edits(node.value)
+            except SyntaxError:  # prose, not code
+                continue
+            found += [f"line {line}, in the code of a string: {what}" for what in inner]
+    return found
+
+
+def script_files() -> list[Path]:
+    """Every Python file of scripts/ and of the benchmarks package."""
+    return sorted([*SCRIPTS.rglob("*.py"), *BENCHMARKS.rglob("*.py")])
+
+
+@pytest.mark.parametrize("path", script_files(), ids=lambda p: p.relative_to(PKG.parent).as_posix())
 def test_scripts_are_small_and_import_the_installed_package(path):
-    """The package's size rule holds for scripts/ too, and no script edits ``sys.path`` to find silcount."""
+    """The package's size rule holds for scripts/ and benchmarks/ too, and none of them edits ``sys.path`` (or
+    loads a file by its path) to find silcount or a sibling: they import silcount as installed (or as a child's
+    ``PYTHONPATH`` gives it), and the benchmarks each other as a package."""
     text = path.read_text()
+    name = path.relative_to(PKG.parent).as_posix()
     lines = len(text.splitlines())
-    assert lines <= MAX_LINES, f"scripts/{path.name} has {lines} lines (at most {MAX_LINES})"
-    assert "sys.path.insert" not in text, f"scripts/{path.name} edits sys.path: import silcount as installed"
+    assert lines <= MAX_LINES, f"{name} has {lines} lines (at most {MAX_LINES})"
+    assert not path_edits(text), f"{name} edits sys.path or loads by path: {'; '.join(path_edits(text))}"
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "import sys\nsys.path.insert(0, 'x')\n",
+        "import sys\nsys.path[:0] = ['x', 'y']\n",
+        "import sys\nsys.path[0] = 'x'\n",
+        "import sys\nsys.path = ['x'] + sys.path\n",
+        "import sys\nsys.path += ['x']\n",
+        "import sys\nsys.path.append('x')\n",
+        "import sys\nsys.path.extend(['x'])\n",
+        "import sys as s\ns.path.insert(0, 'x')\n",
+        "from sys import path\npath[:0] = ['x']\n",
+        "from sys import path as p\np.append('x')\n",
+        "import sys\np = sys.path\np.insert(0, 'x')\n",
+        "import sys\ndel sys.path[0]\n",
+        "import importlib.util\nimportlib.util.spec_from_file_location('m', 'x.py')\n",
+        "from importlib.util import spec_from_file_location as f\nf('m', 'x.py')\n",
+        "from importlib.machinery import SourceFileLoader\nSourceFileLoader('m', 'x.py')\n",
+        "import runpy\nrunpy.run_path('x.py')\n",
+        "import site\nsite.addsitedir('x')\n",
+        'CHILD = """\nimport sys\nsys.path[:0] = [tree]\n"""\n',  # code for ``python -c``
+    ],
+)
+def test_the_scripts_rule_sees_every_spelling_of_a_path_edit(source):
+    assert path_edits(source), source
+
+
+def test_the_scripts_rule_lets_reading_sys_path_pass():
+    source = (
+        "import sys\nimport os\nprint(sys.path[0], len(sys.path))\nfirst = sys.path[:1]\n"
+        "env = dict(os.environ)\nenv['PYTHONPATH'] = 'x'\nfrom importlib import import_module\nimport_module('json')\n"
+    )
+    assert path_edits(source) == []
 
 
 HEAVY = ("sympy", "trimesh", "matplotlib")
+# what no --help may load (issue 43: each within 0.3 s, scripts/bench_front_door.py): numba alone costs 0.2-0.6 s
+HELP_HEAVY = HEAVY + ("numba", "llvmlite", "scipy", "pandas", "dask", "numpy", "PIL")
 
 
-def _loaded_after(code: str) -> set[str]:
+def _loaded_after(code: str, heavy: tuple[str, ...] = HEAVY) -> set[str]:
     env = dict(os.environ)
     probe = code + "\nimport sys\nprint(' '.join(sorted({m.split('.')[0] for m in sys.modules})))\n"
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, check=True)
-    return set(out.stdout.split()) & set(HEAVY)
+    return set(out.stdout.split()) & set(heavy)
 
 
 def test_import_silcount_loads_nothing_heavy():
     assert _loaded_after("import silcount") == set()
 
 
-def test_cli_parser_loads_nothing_heavy():
-    assert _loaded_after("from silcount.cli.main import build_parser; build_parser()") == set()
+def _help_probe(argv: list[str]) -> str:
+    """Code printing ``silcount ARGV``'s help into a buffer (not stdout, which the probe reads) and checking it."""
+    return (
+        "import contextlib, io\n"
+        "from silcount.cli.main import main\n"
+        "buf = io.StringIO()\n"
+        "with contextlib.redirect_stdout(buf):\n"
+        "    try:\n"
+        f"        main({argv!r})\n"
+        "    except SystemExit as exc:\n"
+        "        assert exc.code == 0, exc.code\n"
+        "assert buf.getvalue().startswith('usage: silcount'), buf.getvalue()\n"
+    )
+
+
+@pytest.mark.parametrize("command", [None, *COMMANDS])
+def test_help_loads_nothing_heavy(command):
+    """``silcount --help`` and ``silcount CMD --help`` build their parsers from argparse-level modules alone."""
+    argv = ["--help"] if command is None else [command, "--help"]
+    assert _loaded_after(_help_probe(argv), HELP_HEAVY) == set()
+
+
+def test_the_help_probe_sees_a_heavy_import():
+    """The check above can fail: a probe that imports numba while building the parser is caught."""
+    assert {"numba", "numpy"} <= _loaded_after("import numba\n" + _help_probe(["--help"]), HELP_HEAVY)
+
+
+def test_every_subcommand_module_is_registered():
+    """``silcount/cli/<name>.py`` is a subcommand exactly when COMMANDS names it; each has its two functions."""
+    modules = {p.stem for p in (PKG / "cli").glob("*.py")} - {"__init__", "main"}
+    assert modules == set(COMMANDS)
+    for name in COMMANDS:
+        module = importlib.import_module(f"silcount.cli.{name}")
+        assert callable(module.add_arguments) and callable(module.run), name
+
+
+def test_detector_modules_are_the_light_list():
+    """silcount.detectors imports its modules from silcount.options.DETECTORS; each declares that name."""
+    import silcount.detectors as detectors
+
+    assert [m.NAME for m in detectors.MODULES] == list(options.DETECTORS) == list(detectors.DETECTORS)
+    assert [m.__name__ for m in detectors.MODULES] == [f"silcount.detectors.{n}" for n in options.DETECTORS]
 
 
 def test_render_and_compare_load_nothing_heavy(tmp_path):
@@ -195,3 +370,15 @@ def test_render_and_compare_load_nothing_heavy(tmp_path):
         f"assert main(['compare', {mask!r}, {mask!r}]) == 0\n"
     )
     assert _loaded_after(code) == set()
+
+
+def test_an_audit_of_the_reference_detector_loads_no_sympy(tmp_path):
+    """sympy evaluates the papers' printed formulas; the reference detector has none (issue 43)."""
+    mesh, out = PKG.parent / "data" / "triangle_cube.obj", tmp_path / "a.json"
+    code = (
+        "from silcount.cli.main import main\n"
+        f"assert main(['audit', {str(mesh)!r}, '--detectors', 'reference', '--random-lights', '1', '--quiet', "
+        f"'--format', 'json', '--out', {str(out)!r}]) == 0\n"
+    )
+    assert _loaded_after(code) == set()
+    assert _loaded_after(code.replace("'reference'", "'ta'")) == {"sympy"}  # TA's printed formula: it can fail

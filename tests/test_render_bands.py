@@ -8,14 +8,14 @@ compared with the PNGs committed at 318ab63 (``git show``), when the checkout ha
 
 from __future__ import annotations
 
-import importlib.util
 import io
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from common import shared_scenes
+from oracles.render_baseline import rasterize_serial  # the single-threaded rasteriser of 318ab63
 from PIL import Image
 
 from silcount.cli.render import shared_scene_dir
@@ -29,17 +29,6 @@ from silcount.render.scene import load_scene
 REPO = Path(__file__).resolve().parents[1]
 
 
-def _baseline():
-    """``scripts/render_baseline.py``, the benchmarks' oracle (not part of the package)."""
-    spec = importlib.util.spec_from_file_location("render_baseline", REPO / "scripts" / "render_baseline.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # numba's cache rebuilds a kernel's globals from its module's name
-    spec.loader.exec_module(module)
-    return module
-
-
-rasterize_serial = _baseline().rasterize_serial
 SHARED = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and_cubes", "eye_in_shadow")
 
 
@@ -132,9 +121,7 @@ def _committed_mask(name):
 
 @pytest.mark.parametrize("name", SHARED)
 def test_shared_scene_masks_equal_those_committed_at_318ab63(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     sc = load_scene(d / f"{name}.json")
     truth = render_method(sc, "raycast")
     assert np.array_equal(truth.mask, _committed_mask(f"{name}.raycast.png"))

@@ -4,17 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from common import shared_scenes
 from PIL import Image
 
 from silcount.cli.main import main
-from silcount.cli.render import shared_scene_dir
 from silcount.render.masks import compare_masks, dilate, edge_pixels, write_mask
 
 
 def scene_path(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     return str(d / f"{name}.json")
 
 
@@ -84,11 +82,9 @@ def test_render_bad_inputs(tmp_path, capsys):
     assert main(["render", str(tmp_path / "bad.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
     (tmp_path / "other.json").write_text('{"spec": "something-else/2"}')
     assert main(["render", str(tmp_path / "other.json"), "--method", "zfail", "--out", str(tmp_path / "m.png")]) == 3
-    assert (
-        main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", str(tmp_path / "no" / "m.png")]) == 2
-    )
+    assert main(["render", scene_path("cube_on_floor"), "--method", "zfail", "--out", "/proc/m.png"]) == 3
     err = capsys.readouterr().err
-    assert "missing.json" in err and "bad.json" in err and "other.json" in err
+    assert "missing.json" in err and "bad.json" in err and "other.json" in err and "cannot write /proc/m.png" in err
     assert not (tmp_path / "m.png").exists()
 
 
@@ -197,3 +193,62 @@ def test_compare_masks_matches_the_previous_implementation_on_random_masks():
             near = previous_dilate(previous_edge_pixels(a) | previous_edge_pixels(b))
             diff = (a != b) & cov
             assert (c.covered, c.mismatched, c.far) == (int(cov.sum()), int(diff.sum()), int((diff & ~near).sum()))
+
+
+# ---- sizes: the memory estimate is checked before any buffer is allocated (issue 44) -------------------------
+def scene_at(tmp_path, resolution, name="cube_on_floor") -> str:
+    """The shared scene ``name`` with another ``resolution`` (its mesh paths made absolute)."""
+    import json
+    from pathlib import Path
+
+    src = Path(scene_path(name))
+    doc = json.loads(src.read_text())
+    doc["resolution"] = resolution
+    for obj in doc["objects"]:
+        obj["mesh"] = str(src.parent / obj["mesh"])
+    out = tmp_path / f"{name}.{len(list(tmp_path.glob('*.json')))}.json"
+    out.write_text(json.dumps(doc))
+    return str(out)
+
+
+def test_a_huge_render_is_refused_in_one_line_before_allocating(tmp_path, capsys):
+    s = scene_at(tmp_path, [100000, 100000])
+    for method in ("zpass", "zfail", "planar", "raycast"):  # numpy's _ArrayMemoryError ("74.5 GiB") before
+        assert main(["render", s, "--method", method, "--out", str(tmp_path / "m.png"), "--max-memory", "64G"]) == 4
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "100000x100000" in err and "over the limit of 64.0 GiB" in err, err
+        assert "--max-memory" in err and "Traceback" not in err
+    assert not (tmp_path / "m.png").exists()
+
+
+def test_the_memory_limit_can_be_raised(tmp_path, capsys, monkeypatch):
+    s = scene_at(tmp_path, [64, 48])
+    out = str(tmp_path / "m.png")
+    # the meshes need 4 KiB and 16 KiB (tests/test_bad_input.py's rule), the 64x48 render more than 50 KiB
+    assert main(["render", s, "--method", "zfail", "--out", out, "--max-memory", "50K"]) == 4
+    assert "64x48 by zfail needs about" in capsys.readouterr().err
+    monkeypatch.setenv("SILCOUNT_MAX_MEMORY", "50K")
+    assert main(["render", s, "--method", "zfail", "--out", out]) == 4
+    assert "over the limit of 50.0 KiB" in capsys.readouterr().err
+    assert main(["render", s, "--method", "zfail", "--out", out, "--max-memory", "1G"]) == 0
+    assert Image.open(out).size == (64, 48)
+    assert main(["render", s, "--method", "zfail", "--out", out, "--max-memory", "lots"]) == 2
+
+
+def test_a_large_render_is_announced(tmp_path, capsys):
+    from silcount.cli.render import check_memory
+    from silcount.render.scene import load_scene
+
+    scene = load_scene(scene_at(tmp_path, [64, 64])).with_resolution(20000, 20000)
+    check_memory(scene, "zfail", False, 1 << 40)  # it ran 53 s and took 14.3 GB without a word
+    assert "20000x20000 by zfail needs about" in capsys.readouterr().err
+    check_memory(scene.with_resolution(512, 512), "zfail", False, 1 << 40)
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("resolution", [[512.5, 512], [512, "512"], [True, 512], [512], 512])
+def test_a_resolution_that_is_not_two_whole_numbers_is_refused(tmp_path, capsys, resolution):
+    s = scene_at(tmp_path, resolution)
+    assert main(["render", s, "--method", "raycast", "--out", str(tmp_path / "m.png")]) == 3  # 512.5 drew 512
+    err = capsys.readouterr().err
+    assert "resolution must be [width, height], two whole numbers of pixels" in err and s in err

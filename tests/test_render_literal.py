@@ -16,6 +16,7 @@ import pytest
 
 from silcount.cli.main import main
 from silcount.mesh.lights import DirectionalLight, PointLight
+from silcount.render import builtin
 from silcount.render.builtin import BUILTIN, builtin_scene, scene_document, write_scene_files
 from silcount.render.camera import Camera
 from silcount.render.experiments import stencil_step_evidence
@@ -191,7 +192,7 @@ def test_render_report_summary_follows_its_schema(tmp_path, monkeypatch):
 
     from silcount.cli import render as render_cli
 
-    monkeypatch.setattr(render_cli, "builtin_scene", lambda name: builtin_scene(name, 64))
+    monkeypatch.setattr(builtin, "builtin_scene", lambda name: builtin_scene(name, 64))  # read by report()
     monkeypatch.setattr(render_cli, "shared_scene_dir", lambda: None)
     written = render_cli.report(tmp_path)
     summary = json.loads((tmp_path / "renders" / "summary.json").read_text())
@@ -215,7 +216,7 @@ def test_render_report_without_shared_scenes_keeps_an_existing_summary(tmp_path,
     # recompute (its shared scenes' rows) is left byte for byte, and the report says so.
     from silcount.cli import render as render_cli
 
-    monkeypatch.setattr(render_cli, "builtin_scene", lambda name: builtin_scene(name, 64))
+    monkeypatch.setattr(builtin, "builtin_scene", lambda name: builtin_scene(name, 64))  # read by report()
     monkeypatch.setattr(render_cli, "shared_scene_dir", lambda: None)
     (tmp_path / "renders").mkdir()
     committed = {name: (REPO / "reports" / "renders" / name).read_bytes() for name in ("summary.json", "summary.md")}

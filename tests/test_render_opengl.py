@@ -1,6 +1,6 @@
 """The software stencil rasteriser against a real OpenGL stencil pipeline (Mesa llvmpipe), pixel by pixel.
 
-``scripts/gl_stencil.py`` draws the very triangles silcount rasterises (same clip
+``tests/oracles/gl_stencil.py`` draws the very triangles silcount rasterises (same clip
 coordinates, float32 on the GL side) with GL's own depth test and two-sided stencil
 operations, so the masks are an independent implementation of the stencil steps
 (stencil paper Sec. 5; scene README "Comparing two masks").  It agrees where the
@@ -11,31 +11,21 @@ gives the same wrong mask in GL.  Skips, saying why, without moderngl and PyOpen
 
 from __future__ import annotations
 
-import functools
 import importlib.util
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from common import shared_scenes
 
-from silcount.cli.render import shared_scene_dir
 from silcount.render.masks import compare_masks
 from silcount.render.methods import render_method
 from silcount.render.scene import load_scene
 from silcount.render.stencil import render_stencil
 
 
-@functools.cache
 def gl_stencil():
-    """``scripts/gl_stencil.py``, loaded by path (scripts are not a package; it imports moderngl)."""
-    path = Path(__file__).resolve().parents[1] / "scripts" / "gl_stencil.py"
-    spec = importlib.util.spec_from_file_location("gl_stencil", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # numba's cache rebuilds a kernel's globals from its module's name
-    spec.loader.exec_module(module)
-    return module
+    """``tests/oracles/gl_stencil.py``, imported when first asked for (it imports moderngl)."""
+    return importlib.import_module("oracles.gl_stencil")
 
 
 SCENES = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and_cubes", "eye_in_shadow")
@@ -54,9 +44,7 @@ def gl_context():
 
 
 def scene(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     return load_scene(d / f"{name}.json")
 
 

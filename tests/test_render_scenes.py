@@ -11,8 +11,8 @@ import json
 
 import numpy as np
 import pytest
+from common import shared_scenes
 
-from silcount.cli.render import shared_scene_dir
 from silcount.mesh.lights import PointLight
 from silcount.render.masks import compare_masks
 from silcount.render.methods import render_method
@@ -24,9 +24,7 @@ _cache: dict = {}
 
 
 def scene(name):
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     if name not in _cache:
         _cache[name] = load_scene(d / f"{name}.json")
     return _cache[name]
@@ -140,9 +138,7 @@ def test_open_caster_renders_with_a_warning_naming_its_open_edges(tmp_path, shar
 @pytest.mark.parametrize("method", ["zpass", "zfail"])
 def test_directional_light_volumes_match_raycast(tmp_path, method):
     # The torus scene lit by a directional light: side quads become triangles to one point at infinity.
-    d = shared_scene_dir()
-    if d is None:
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR or provide ../shared/scenes")
+    d = shared_scenes()
     doc = json.loads((d / "torus_self_shadow.json").read_text())
     doc["light"] = {"direction": [-1, 3, 1.5]}
     doc["resolution"] = [256, 256]  # reduced resolution: this test is about the volumes

@@ -5,10 +5,12 @@ documented in ``docs/audit.md``); :mod:`silcount.audit.layout` renders it.
 
 Decisions, named:
 
-* **Default lights**: :data:`DEFAULT_LIGHT_COUNT` point lights, directions
-  drawn from a normal distribution with ``numpy.random.default_rng(seed)``
-  and normalised, placed at :data:`LIGHT_DISTANCE` times the bounding radius
-  from the bounding-box centre.
+* **Default lights**: :data:`DEFAULT_LIGHT_COUNT` point lights, seed
+  :data:`DEFAULT_SEED`, from :func:`silcount.mesh.lights.random_lights`:
+  directions drawn from a normal distribution with
+  ``numpy.random.default_rng(seed)`` and normalised, placed at
+  :data:`~silcount.mesh.lights.LIGHT_DISTANCE` times the bounding radius from
+  the bounding-box centre.
 * **Aggregate over lights**: ``silhouette_edges``, ``tallies``, ``steps``,
   ``cycles``, ``missed_edges``, ``extra_edges`` and ``time_s`` are *sums* over
   the lights; ``agrees_with_reference`` holds iff it holds for every light.
@@ -54,18 +56,16 @@ import numpy as np
 
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, variants_of
+from silcount.detectors import DETECTORS, Silhouette, detect_many, differences, is_reference_run, runs
 from silcount.errors import TooMuchWork
-from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
+from silcount.options import DEFAULT_LIGHT_COUNT, DEFAULT_SEED
 from silcount.progress import progress
 from silcount.version import __version__
 
 SCHEMA = "silcount-audit/1"
-DEFAULT_LIGHT_COUNT = 16
-DEFAULT_SEED = 0
-LIGHT_DISTANCE = 3.0
 
 
 @dataclass(frozen=True)
@@ -78,15 +78,6 @@ class AuditSettings:
     cycles: str = "paper"
     with_edges: bool = False
     with_time: bool = True
-
-
-def random_lights(mesh: Mesh, count: int = DEFAULT_LIGHT_COUNT, seed: int = DEFAULT_SEED) -> list[Light]:
-    """``count`` point lights uniformly on the sphere of ``LIGHT_DISTANCE`` x the bounding radius."""
-    rng = np.random.default_rng(seed)
-    dirs = rng.normal(size=(count, 3))
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    radius = LIGHT_DISTANCE * max(mesh.bounding_radius, 1e-12)
-    return [PointLight(mesh.centre + radius * d) for d in dirs]
 
 
 def winding_number(mesh: Mesh, point) -> float:
@@ -133,15 +124,6 @@ def _light_checks(mesh: Mesh, light: Light, ties: int, index: int) -> tuple[dict
         if info["inside"]:
             warnings.append(f"light {index}: inside the mesh (winding number {w:.3g}): every face sees its back")
     return info, warnings
-
-
-def _runs(settings: AuditSettings) -> list[tuple[str, str, str]]:
-    """(key, detector, variant) for every requested run; ``reference``, ``gaussmap`` and ``cones`` have one variant."""
-    out = []
-    for name in settings.detectors:
-        for variant in variants_of(name, settings.variants):
-            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
-    return out
 
 
 def _ratios(measured: dict[str, int], printed: dict[str, float], lights: int) -> dict[str, float | None]:
@@ -271,19 +253,19 @@ def run_audit(
 ) -> dict:
     """Audit ``mesh`` under each light with each requested detector; see the module docstring."""
     if not lights:
-        lights = random_lights(mesh)
+        lights = random_lights(mesh, DEFAULT_LIGHT_COUNT, DEFAULT_SEED)
     profile = cycle_profile(settings.cycles)
     stats = mesh_statistics(mesh)
     warnings = list(mesh.load_warnings) + mesh_warnings(stats)
-    runs = _runs(settings)
+    todo = runs(settings.detectors, settings.variants)
     per_light = []
-    with progress(len(lights) * (len(runs) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
+    with progress(len(lights) * (len(todo) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
         # every run under all the lights at once (detect_many: identical to detect per light), each light's
         # time its share of the pass; the reference first, always (a requested fast reference run is it)
         batches: dict[str, tuple[list[Silhouette], float]] = {}
         refused: dict[str, str] = {}
-        for key, name, variant in [("", "reference", "intended"), *runs]:
-            if key and name == "reference" and settings.engine == "fast":
+        for key, name, variant in [("", "reference", "intended"), *todo]:
+            if key and is_reference_run(name, settings.engine):
                 batches[key] = batches[""]
                 continue
             bar.set_postfix_str(key or "reference", refresh=False)
@@ -298,7 +280,7 @@ def run_audit(
             else:
                 batches[key] = (got, (time.perf_counter() - t0) / len(lights))
             bar.update(len(lights))
-        done = [run for run in runs if run[0] not in refused]
+        done = [run for run in todo if run[0] not in refused]
         refs = batches[""][0]
         for i, (light, ref) in enumerate(zip(lights, refs, strict=True)):
             info, light_warnings = _light_checks(mesh, light, ref.ties, i)

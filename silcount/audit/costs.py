@@ -45,12 +45,13 @@ def printed_formula(detector: str, mesh: Mesh, notes: dict | None = None) -> dic
     are silcount's own annotation, with no printed closed form).
     """
     from silcount.detectors import PAPER_MODEL
-    from silcount.papers import formulas  # sympy: only when a formula is asked for
 
     model = PAPER_MODEL[detector]
     spec = models.load(model)
     if "closed_form" not in spec:
         return None
+    from silcount.papers import formulas  # sympy (~0.3 s): only when there is a printed formula to evaluate
+
     n, m = formula_point(detector, mesh, notes or {})
     values = formulas.evaluate(formulas.printed_final(model), n=n, m=m)
     return {

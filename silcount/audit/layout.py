@@ -17,8 +17,6 @@ from pathlib import Path
 from silcount.atomic import write_text
 from silcount.counting.arithmetic import KINDS
 
-FORMATS = ("text", "md", "json")
-
 
 def fmt(x) -> str:
     """Stable human formatting: ``-`` for missing, ints in full, floats to 6 significant digits."""
@@ -213,7 +211,5 @@ def format_audit(audit: dict, form: str) -> str:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` atomically (:mod:`silcount.atomic`), creating missing directories."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Write ``text`` to ``path`` atomically, creating missing directories (:mod:`silcount.atomic`)."""
     write_text(path, text)

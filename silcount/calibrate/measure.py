@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.atomic import write_text
+from silcount.atomic import make_folder, write_text
 from silcount.calibrate import microbench as K
 
 L1_INDICES = 512
@@ -172,5 +172,5 @@ def measure(out_dir: Path, n: int = 2_000_000, repeats: int = 5, dram_bytes: int
     """Run the micro-benchmarks and write ``out_dir/measured-<cpu model>.toml``; returns its path."""
     model = cpu_model_name()
     raw = raw_timings(n, repeats, dram_bytes)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     return write_text(out_dir / f"measured-{slug(model)}.toml", render_toml(model, raw, n, repeats, dram_bytes))

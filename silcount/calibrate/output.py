@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from silcount.atomic import atomic_path, write_text
+from silcount.atomic import atomic_path, make_folder, write_text
 from silcount.calibrate.calibration import LARGE_FACES, Calibration
 from silcount.calibrate.timing import LITERATURE, MODELS, TIMED
 from silcount.detectors import STYLES
@@ -206,7 +206,7 @@ def figure(cal: Calibration, model: str, path: Path) -> Path:
 
 def write(cal: Calibration, out_dir: Path, with_timings: bool = False, figures: bool = True) -> list[Path]:
     """Write every file of the calibration (the figures unless ``figures`` is false) under ``out_dir``."""
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     paths = [
         write_text(out_dir / "calibrate.md", to_markdown(cal)),
         write_text(out_dir / "calibrate.csv", rounded(cal.summary).to_csv(index=False)),

@@ -15,7 +15,7 @@ on one numba thread (:func:`silcount.detectors.hierarchy_query.plain_query`; the
 call builds the tree, so the build is not timed, as HSD's merge is not), and
 their tally is the query's alone (the build's is ``notes['build']``).  Lights: ``LIGHTS``
 point lights uniformly on the sphere of 3 bounding radii about the mesh centre,
-seed 0 (the recipe of ``silcount audit``).
+seed 0 (:func:`silcount.mesh.lights.random_lights`, the recipe of ``silcount audit``).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ import pandas as pd
 from silcount.counting.cycles import TRUE_KINDS
 from silcount.detectors import LITERATURE, PAPERS, detect, plain_edge_ids
 from silcount.errors import BadArgument, UnreadableInput
-from silcount.mesh.lights import PointLight
+from silcount.mesh.lights import random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.shapes import builtin_mesh
 from silcount.progress import progress
@@ -40,14 +40,6 @@ SERIES = tuple(f"icosphere{k}" for k in range(5))
 LIGHTS = 4
 MODELS = ("paper", "true")
 KEY = ["mesh", "detector", "light"]
-
-
-def lights(mesh: Mesh, count: int = LIGHTS, seed: int = 0) -> list[PointLight]:
-    """``count`` point lights on the sphere of 3 bounding radii about the mesh centre (seeded)."""
-    rng = np.random.default_rng(seed)
-    dirs = rng.normal(size=(count, 3))
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    return [PointLight(tuple(mesh.centre + 3.0 * max(mesh.bounding_radius, 1e-12) * d)) for d in dirs]
 
 
 def series_meshes() -> list[tuple[str, Mesh]]:
@@ -90,7 +82,7 @@ def tallies(
     bar = progress(len(meshes) * len(detectors), "tallies", show)
     for group, mesh in meshes:
         for det in detectors:
-            for i, light in enumerate(lights(mesh, n_lights)):
+            for i, light in enumerate(random_lights(mesh, n_lights)):
                 res = detect(mesh, light, det, variant="intended", engine="fast")
                 row = {"group": group, "mesh": mesh.name, "faces": mesh.n_faces, "edges": mesh.n_edges}
                 row |= {"detector": det, "light": i}
@@ -117,7 +109,7 @@ def timings(
     bar = progress(len(meshes) * len(detectors), "timing", show)
     for _, mesh in meshes:
         for det in detectors:
-            for i, light in enumerate(lights(mesh, n_lights)):
+            for i, light in enumerate(random_lights(mesh, n_lights)):
                 seconds = _best(lambda m=mesh, li=light, d=det: plain_edge_ids(m, li, d), repeats)
                 rows.append({"mesh": mesh.name, "detector": det, "light": i, "seconds": seconds})
             bar.update(1)

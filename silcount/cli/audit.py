@@ -10,24 +10,20 @@ is then a directory receiving ``<mesh>.<format>``.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from silcount.audit.compute import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, AuditSettings, random_lights, run_audit
-from silcount.audit.costs import cycle_profile
-from silcount.audit.layout import FORMATS, format_audit, render_json, write_atomic
-from silcount.detectors import DETECTORS
 from silcount.errors import BadArgument, TooMuchWork, check_choice
-from silcount.mesh import shapes
-from silcount.mesh.chunks import limit_work, parse_work
-from silcount.mesh.io import load_mesh, parse_size
-from silcount.mesh.lights import DirectionalLight, Light, PointLight
-from silcount.mesh.model import Mesh
+from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS
 
-HELP = "audit a mesh: silhouette edges and operation tallies of every detector, per light and aggregated"
+if TYPE_CHECKING:
+    from silcount.audit.compute import AuditSettings
+    from silcount.mesh.lights import Light
+    from silcount.mesh.model import Mesh
+
 EXTENSIONS = {"text": "txt", "md": "md", "json": "json"}
 
 
@@ -78,13 +74,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="list each light's silhouette edges as [[x,y,z],[x,y,z]] in the input's coordinates",
     )
-    parser.add_argument("--format", choices=FORMATS, default="text")
+    parser.add_argument("--format", choices=AUDIT_FORMATS, default="text")
     parser.add_argument(
         "--out",
         type=Path,
         default=None,
         metavar="PATH",
-        help="write here instead of stdout (a directory when MESH is omitted)",
+        help="write here instead of stdout (a directory when MESH is omitted; missing folders are created)",
     )
     parser.add_argument(
         "--max-memory",
@@ -116,12 +112,14 @@ def parse_vector(text: str, option: str) -> tuple[float, float, float]:
         values = tuple(float(p) for p in parts)
     except ValueError:
         values = ()
-    if len(values) != 3 or not np.all(np.isfinite(values)):
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
         raise BadArgument(f"{option} {text!r}: expected three finite comma-separated numbers X,Y,Z")
     return values
 
 
 def explicit_lights(args: argparse.Namespace) -> list[Light]:
+    from silcount.mesh.lights import DirectionalLight, PointLight
+
     lights: list[Light] = [PointLight(parse_vector(t, "--light")) for t in args.light]
     for t in args.directional:
         v = parse_vector(t, "--directional")
@@ -132,6 +130,8 @@ def explicit_lights(args: argparse.Namespace) -> list[Light]:
 
 
 def settings_from(args: argparse.Namespace) -> AuditSettings:
+    from silcount.audit.compute import AuditSettings
+
     if args.detectors is None:
         chosen = DETECTORS
     else:
@@ -147,6 +147,8 @@ def settings_from(args: argparse.Namespace) -> AuditSettings:
 
 
 def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> list[Light]:
+    from silcount.mesh.lights import random_lights
+
     if count is not None and count < 0:
         raise BadArgument(f"--random-lights {count}: must be >= 0")
     n = count if count is not None else (0 if fixed else DEFAULT_LIGHT_COUNT)
@@ -157,6 +159,8 @@ def lights_for(mesh: Mesh, fixed: list[Light], count: int | None, seed: int) -> 
 
 
 def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fixed: list[Light], source: str) -> dict:
+    from silcount.audit.compute import run_audit
+
     return run_audit(
         mesh, lights_for(mesh, fixed, args.random_lights, args.seed), settings, source=source, quiet=args.quiet
     )
@@ -176,40 +180,43 @@ def refusals(audits: list[dict]) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
+    from silcount.audit.costs import cycle_profile
+    from silcount.audit.layout import format_audit, render_json, write_atomic
+    from silcount.mesh import shapes
+    from silcount.mesh.chunks import limit_work, parse_work
+    from silcount.mesh.io import load_mesh, parse_size
+
     settings = settings_from(args)
     fixed = explicit_lights(args)
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
     max_work = parse_work(args.max_work, "--max-work") if args.max_work else None
     cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
-    with limit_work(max_work):
-        return _run(args, settings, fixed, max_memory)
-
-
-def _run(args: argparse.Namespace, settings: AuditSettings, fixed: list[Light], max_memory: int | None) -> int:
-    if args.mesh is not None:
-        if not args.weld_tolerance >= 0.0:
-            raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
-        mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
-        audit = audit_one(mesh, args, settings, fixed, str(args.mesh))
-        text = format_audit(audit, args.format)
-        if args.out is None:
-            sys.stdout.write(text)
+    if args.out is not None:  # and so does an --out that cannot be written
+        check_writable(args.out, folder=args.mesh is None)
+    with limit_work(max_work):  # the runs' work limit (silcount.mesh.chunks)
+        if args.mesh is not None:
+            if not args.weld_tolerance >= 0.0:
+                raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
+            mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
+            audit = audit_one(mesh, args, settings, fixed, str(args.mesh))
+            text = format_audit(audit, args.format)
+            if args.out is None:
+                sys.stdout.write(text)
+            else:
+                write_atomic(args.out, text)
+                print(f"wrote {args.out}", file=sys.stderr)
+            return refusals([audit])
+        audits = []
+        for name in shapes.BUILTIN:
+            audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
+        if args.out is not None:
+            for name, a in audits:
+                path = args.out / f"{name}.{EXTENSIONS[args.format]}"
+                write_atomic(path, format_audit(a, args.format))
+                print(f"wrote {path}", file=sys.stderr)
+        elif args.format == "json":
+            sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
         else:
-            write_atomic(args.out, text)
-            print(f"wrote {args.out}", file=sys.stderr)
-        return refusals([audit])
-    audits = []
-    for name in shapes.BUILTIN:
-        audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
-    if args.out is not None:
-        if args.out.exists() and not args.out.is_dir():
-            raise BadArgument(f"--out {args.out}: with no MESH, --out must be a directory")
-        for name, a in audits:
-            path = args.out / f"{name}.{EXTENSIONS[args.format]}"
-            write_atomic(path, format_audit(a, args.format))
-            print(f"wrote {path}", file=sys.stderr)
-    elif args.format == "json":
-        sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
-    else:
-        sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
-    return refusals([a for _, a in audits])
+            sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
+        return refusals([a for _, a in audits])

@@ -24,11 +24,11 @@ import argparse
 import sys
 from pathlib import Path
 
-HELP = "do the counts predict time? time the algorithms' compiled loops and predict them from tally x cycle profile"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", type=Path, metavar="DIR", help="output directory (default: calibrate/)")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="output directory (default: calibrate/; missing folders are created)"
+    )
     parser.add_argument("--corpus", type=Path, metavar="PATH", help="also time every mesh file under PATH")
     parser.add_argument(
         "--max-faces",
@@ -67,6 +67,7 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.calibrate import output, timing
     from silcount.calibrate.calibration import calibrate, read_timings
     from silcount.calibrate.measure import cpu_model_name, measure
@@ -76,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     if args.lights < 1 or args.repeats < 1:
         raise BadArgument("--lights and --repeats must be at least 1")
     if args.measure:
-        print(measure(args.out or cycles_dir()))
+        print(measure(check_writable(args.out or cycles_dir(), folder=True)))
         return 0
     profiles = builtin_profiles()
     for spec in args.profile:
@@ -91,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
                 meshes.append((group, mesh))
             else:
                 print(f"skipped {mesh.name}: {mesh.n_faces} faces > --max-faces {args.max_faces}", file=sys.stderr)
+    out = check_writable(args.out or Path("calibrate"), folder=True)  # after the arguments, before the timing
     show = False if args.quiet else None
     n_lights = args.lights
     if args.timings is not None:
@@ -104,6 +106,6 @@ def run(args: argparse.Namespace) -> int:
         times = timing.timings(meshes, n_lights, args.repeats, show)
         cpu, source, live = cpu_model_name(), "measured in this run", True
     cal = calibrate(meshes, times, cpu, source, profiles, n_lights, show)
-    for path in output.write(cal, args.out or Path("calibrate"), with_timings=live):
+    for path in output.write(cal, out, with_timings=live):
         print(path)
     return 0

@@ -14,9 +14,6 @@ import math
 from pathlib import Path
 
 from silcount.errors import BadArgument
-from silcount.render.masks import compare_masks, read_mask
-
-HELP = "compare two shadow-mask PNGs; exit 1 on real disagreements"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,6 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.render.masks import compare_masks, read_mask
+
     if not (math.isfinite(args.tol) and 0.0 <= args.tol <= 1.0):
         raise BadArgument(f"--tol must be a fraction in [0, 1], got {args.tol}")
     a, b = read_mask(args.a), read_mask(args.b)

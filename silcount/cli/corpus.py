@@ -18,10 +18,10 @@ import os
 import sys
 from pathlib import Path
 
-HELP = "sweep a collection of meshes (files or folders): silhouette size and every detector's cost against faces"
+from silcount.options import DETECTORS
+
 CORPUS_ENV = "SILCOUNT_CORPUS_DIR"
 REPORT_LEVELS = (0,)  # each subdivision level quadruples the faces, and about the time, of the sweep
-DETECTOR_NAMES = "reference,ta,vnv,hsd,eesd,gaussmap,cones"
 
 
 def _levels(text: str) -> list[int]:
@@ -49,7 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of every mesh's lights, with its sha256 (default 0)")
     parser.add_argument(
-        "--detectors", default=None, metavar="LIST", help=f"comma-separated subset of {DETECTOR_NAMES} (default: all)"
+        "--detectors",
+        default=None,
+        metavar="LIST",
+        help=f"comma-separated subset of {','.join(DETECTORS)} (default: all)",
     )
     parser.add_argument("--variant", choices=("intended", "literal", "both"), default="intended")
     parser.add_argument(
@@ -75,18 +78,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--format", choices=("text", "md", "json"), default="text", help="stdout (default text)")
     parser.add_argument(
-        "--out", type=Path, default=None, metavar="DIR", help="write corpus.parquet, meshes.csv, fits.json, figures"
+        "--out",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="write corpus.parquet, meshes.csv, fits.json, figures (missing folders are created)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.errors import BadArgument
     from silcount.study import corpus
     from silcount.study.output import format_corpus, write_out
 
-    if args.out is not None and args.out.exists() and not args.out.is_dir():
-        raise BadArgument(f"--out {args.out}: not a directory")
+    if args.out is not None:
+        check_writable(args.out, folder=True)  # before the sweep
     if args.workers is not None and args.workers < 1:
         raise BadArgument(f"--workers {args.workers}: need at least one")
     detectors = None if args.detectors is None else [d.strip() for d in args.detectors.split(",") if d.strip()]
@@ -132,11 +140,11 @@ def report(out_dir: Path) -> list[Path]:
     model's check and its 10,000-mesh estimate, comes from the committed measurements
     (:mod:`silcount.study.scale`) and is written with or without a corpus.
     """
-    from silcount.atomic import write_text
+    from silcount.atomic import make_folder, write_text
     from silcount.study import corpus, scale
     from silcount.study.output import write_out
 
-    (out_dir / "corpus").mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir / "corpus")
     paths = [write_text(out_dir / "corpus" / "scale.md", scale.page(scale.load_profile()))]
     source = corpus_dir()
     if source is None:

@@ -5,12 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-HELP = "the papers' figures redrawn, as printed and corrected, and measured growth plots (PNG, SVG)"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--out", type=Path, default=Path("reports/figures"), help="output directory (default reports/figures)"
+        "--out",
+        type=Path,
+        default=Path("reports/figures"),
+        help="output directory (default reports/figures; missing folders are created)",
     )
 
 
@@ -26,8 +27,9 @@ def report(out_dir: Path, name: str) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.papers.figures import write_all
 
-    for path in write_all(args.out):
+    for path in write_all(check_writable(args.out, folder=True)):
         print(path)
     return 0

@@ -25,26 +25,21 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from silcount.atomic import write_text
-from silcount.detectors import DETECTORS, LITERATURE
 from silcount.errors import BadArgument, SilcountError
-from silcount.render.builtin import BUILTIN, builtin_scene
-from silcount.render.masks import compare_masks, write_mask, write_png
-from silcount.render.methods import METHODS, Rendered, render_method
-from silcount.render.planar import floor_plane
-from silcount.render.scene import Scene, load_scene
-from silcount.render.shade import shade
-from silcount.render.stencil import SHADOW_TESTS, VOLUMES
+from silcount.options import DETECTORS, RENDER_METHODS, SHADOW_TESTS, VOLUMES
 
-HELP = "render a silcount-scene/1 file's shadow mask by z-pass, z-fail, planar projection or ray casting"
+if TYPE_CHECKING:
+    import numpy as np
+
+    from silcount.render.methods import Rendered
+    from silcount.render.scene import Scene
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", type=Path, metavar="SCENE.json", help="a silcount-scene/1 file")
-    parser.add_argument("--method", choices=METHODS, required=True, help="how to compute the mask")
+    parser.add_argument("--method", choices=RENDER_METHODS, required=True, help="how to compute the mask")
     parser.add_argument(
         "--detector",
         choices=DETECTORS,
@@ -71,31 +66,71 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="zpass/zfail volumes: infinite (default), truncated at the floor plane by the paper's 'new pixel', "
         "or sides (infinite, no caps: the EESD paper's z-fail, 'like Z-pass except step 5 and 6')",
     )
-    parser.add_argument("--out", type=Path, required=True, metavar="mask.png", help="8-bit mask PNG, 255 in shadow")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="mask.png",
+        help="8-bit mask PNG, 255 in shadow (missing folders are created)",
+    )
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
     parser.add_argument("--image", type=Path, metavar="shaded.png", help="also write a Phong-shaded picture")
+    parser.add_argument(
+        "--max-memory",
+        default=None,
+        metavar="SIZE",
+        help="refuse a render estimated to need more (e.g. 8G; default $SILCOUNT_MAX_MEMORY or free RAM)",
+    )
 
 
-def _check_out(path: Path | None, flag: str) -> None:
-    if path is not None and (path.is_dir() or not path.parent.is_dir()):
-        raise BadArgument(f"{flag} {path}: not a writable file path (is a directory, or its directory does not exist)")
+WARN_BYTES = 1 << 30  # a render estimated to need more says so on stderr before it starts
+
+
+def check_memory(scene: Scene, method: str, image: bool, max_memory: int | None) -> None:
+    """Refuse, in one line, a render whose estimate (:mod:`silcount.render.memory`) exceeds the limit."""
+    from silcount.errors import InvalidMesh
+    from silcount.mesh.io import MAX_MEMORY_ENV, format_size, memory_limit
+    from silcount.render.memory import render_bytes
+
+    need = render_bytes(scene.width, scene.height, method, image)
+    limit = memory_limit(max_memory)
+    what = f"{scene.path}: {scene.width}x{scene.height} by {method}{' with --image' if image else ''}"
+    if need > limit:
+        raise InvalidMesh(
+            f"{what} needs about {format_size(need)}, over the limit of {format_size(limit)} "
+            f"(set --max-memory or ${MAX_MEMORY_ENV} to raise it)"
+        )
+    if need > WARN_BYTES:
+        print(f"silcount render: warning: {what} needs about {format_size(need)} of memory", file=sys.stderr)
 
 
 def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, image: Path | None) -> list[Path]:
+    from silcount.render.masks import write_mask, write_png
+
     paths = [write_mask(out, r.mask)]
     if coverage is not None:
         paths.append(write_mask(coverage, r.coverage))
     if image is not None:
+        from silcount.render.shade import shade
+
         paths.append(write_png(image, shade(scene, r.tri_id, r.eye_depth, r.mask)))
     return paths
 
 
 def run(args: argparse.Namespace) -> int:
-    for path, flag in ((args.out, "--out"), (args.coverage, "--coverage"), (args.image, "--image")):
-        _check_out(path, flag)
-    scene = load_scene(args.scene)
+    from silcount.atomic import check_writable
+    from silcount.mesh.io import parse_size
+    from silcount.render.methods import render_method
+    from silcount.render.scene import load_scene
+
+    for path in (args.out, args.coverage, args.image):
+        if path is not None:
+            check_writable(path)  # before the render, which may take long
+    max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
+    scene = load_scene(args.scene, max_memory)
     if args.method not in ("zpass", "zfail") and (args.shadow_test != "nonzero" or args.volume != "infinite"):
         raise BadArgument(f"--shadow-test and --volume apply to zpass and zfail, not to {args.method}")
+    check_memory(scene, args.method, args.image is not None, max_memory)
     r = render_method(scene, args.method, args.detector, args.variant, args.shadow_test, args.volume)
     for msg in r.messages:
         print(f"silcount render: warning: {msg}", file=sys.stderr)
@@ -124,6 +159,8 @@ def shared_scene_dir() -> Path | None:
 
 
 def _entry(mask: np.ndarray, truth: np.ndarray, coverage: np.ndarray) -> dict:
+    from silcount.render.masks import compare_masks
+
     c = compare_masks(mask, truth, coverage)
     return {
         "shadow_pixels": int(mask.sum()),
@@ -146,6 +183,13 @@ LITERAL_STEPS = {  # key: (method, shadow test, volume); the papers' printed ste
 
 def _render_scene(scene: Scene, dest: Path, written: list[Path]) -> dict:
     """Every method, literal step and detector on one scene; masks into ``dest``; the scene's summary entry."""
+    import numpy as np
+
+    from silcount.detectors import LITERATURE
+    from silcount.render.masks import write_mask
+    from silcount.render.methods import render_method
+    from silcount.render.planar import floor_plane
+
     name = scene.name
     truth = render_method(scene, "raycast")
     written += write_outputs(
@@ -199,6 +243,10 @@ def report(out_dir: Path) -> list[Path]:
     :func:`shared_scene_dir` finds them.  Without them an existing summary is left as it is (a clone without
     the shared scenes loses none of its rows); only a missing one is written, of the built-in scenes.
     """
+    from silcount.atomic import make_folder, write_text
+    from silcount.render.builtin import BUILTIN, builtin_scene
+    from silcount.render.scene import load_scene
+
     scenes = [builtin_scene(n) for n in BUILTIN]
     dest = out_dir / "renders"
     shared = shared_scene_dir()
@@ -209,7 +257,7 @@ def report(out_dir: Path) -> list[Path]:
               file=sys.stderr)  # fmt: skip
     else:
         scenes += [load_scene(p) for p in sorted(shared.glob("*.json"))]
-    dest.mkdir(parents=True, exist_ok=True)
+    make_folder(dest)
     written: list[Path] = []
     summary: dict = {
         "scenes": {},

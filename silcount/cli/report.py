@@ -25,16 +25,12 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from silcount.audit.compute import AuditSettings, random_lights, run_audit
-from silcount.audit.layout import format_audit, write_atomic
 from silcount.cli import calibrate, claims, corpus, figures, tables
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
-from silcount.detectors import DETECTORS
-from silcount.errors import BadArgument, SilcountError
-from silcount.mesh import shapes
+from silcount.errors import SilcountError
+from silcount.options import DEFAULT_LIGHT_COUNT, DEFAULT_SEED, DETECTORS
 
-HELP = "regenerate everything under reports/ (claims, tables, figures, renders, audits) from built-in data"
 PARTS = (
     ("claims", claims.report),
     ("tables", tables.report),
@@ -44,20 +40,38 @@ PARTS = (
 )
 # icosphere5 (20,480 faces) is left out: EESD's literal variant costs O(E x F) even in the fast engine
 # (about six minutes for 16 lights on this machine); the size sweeps cover it.
-REPORT_MESHES = tuple(name for name in shapes.BUILTIN if name != "icosphere5")
+LEFT_OUT = ("icosphere5",)
+
+
+def report_meshes() -> tuple[str, ...]:
+    """The built-in meshes whose audits `silcount report` writes: all but :data:`LEFT_OUT`."""
+    from silcount.mesh import shapes
+
+    return tuple(name for name in shapes.BUILTIN if name not in LEFT_OUT)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--out", type=Path, default=Path("reports"), metavar="DIR", help="output directory (default: reports)"
+        "--out",
+        type=Path,
+        default=Path("reports"),
+        metavar="DIR",
+        help="output directory (default: reports; missing folders are created)",
     )
 
 
 def audit_one(out_dir: Path, name: str) -> list[Path]:
     """Audit built-in mesh ``name`` into ``out_dir/audit/<name>.md`` and ``.json``; returns the paths."""
+    from silcount.audit.compute import AuditSettings, run_audit
+    from silcount.audit.layout import format_audit, write_atomic
+    from silcount.mesh import shapes
+    from silcount.mesh.lights import random_lights
+
     settings = AuditSettings(detectors=DETECTORS, variants=("intended", "literal"), with_time=False)
     mesh = shapes.builtin_mesh(name)
-    audit = run_audit(mesh, random_lights(mesh), settings, source=f"built-in {name}", quiet=True)
+    audit = run_audit(
+        mesh, random_lights(mesh, DEFAULT_LIGHT_COUNT, DEFAULT_SEED), settings, source=f"built-in {name}", quiet=True
+    )
     written = []
     for form in ("md", "json"):
         path = out_dir / "audit" / f"{name}.{EXTENSIONS[form]}"
@@ -68,18 +82,27 @@ def audit_one(out_dir: Path, name: str) -> list[Path]:
 
 def report(out_dir: Path) -> list[Path]:
     """Audit every built-in mesh into ``out_dir/audit/<mesh>.md`` and ``.json``; returns the paths."""
-    return [p for name in REPORT_MESHES for p in audit_one(out_dir, name)]
+    return [p for name in report_meshes() for p in audit_one(out_dir, name)]
 
 
 class PartFailed(SilcountError):
-    """A part of `silcount report` raised: the message names it."""
+    """A part of `silcount report` raised: the message names it; the exit code is the error's own (1 for an
+    exception that is not a :class:`SilcountError`)."""
+
+    def __init__(self, message: str, exit_code: int = 1) -> None:
+        super().__init__(message, exit_code)
+        self.exit_code = exit_code
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 def _run_part(name: str, fn: Callable[..., list[Path]], *args) -> list[Path]:
     try:
         return fn(*args)
     except Exception as exc:  # re-raised with the part's name (in the worker, where the traceback is)
-        raise PartFailed(f"part {name} failed: {type(exc).__name__}: {exc}") from exc
+        code = exc.exit_code if isinstance(exc, SilcountError) else 1
+        raise PartFailed(f"part {name} failed: {type(exc).__name__}: {exc}", code) from exc
 
 
 def _one_thread() -> None:
@@ -94,21 +117,22 @@ def _workers() -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    out: Path = args.out
-    if out.exists() and not out.is_dir():
-        raise BadArgument(f"--out {out}: not a directory")
+    from silcount.atomic import check_writable
+
+    out: Path = check_writable(args.out, folder=True)
     # the dearest first, so that no long part starts last (figures, then corpus: ~10 s each on one core)
     tasks: list[tuple[str, Callable[..., list[Path]], tuple]] = [
         (f"figure {name}", figures.report, (out, name)) for name in figures.PARTS
     ]
     tasks += [(name, fn, (out,)) for name, fn in PARTS]
-    tasks += [(f"audit {mesh}", audit_one, (out, mesh)) for mesh in REPORT_MESHES]
+    meshes = report_meshes()
+    tasks += [(f"audit {mesh}", audit_one, (out, mesh)) for mesh in meshes]
     with ProcessPoolExecutor(_workers(), mp_context=mp.get_context("spawn"), initializer=_one_thread) as pool:
         futures = [pool.submit(_run_part, name, fn, *a) for name, fn, a in tasks]
         done = [f.result() for f in futures]  # in task order; the first failure is raised here
     listing = {name: paths for (name, _, _), paths in zip(tasks, done, strict=True)}
     figure_paths = [p for name in figures.PARTS for p in listing.pop(f"figure {name}")]
-    audits = [p for mesh in REPORT_MESHES for p in listing.pop(f"audit {mesh}")]
+    audits = [p for mesh in meshes for p in listing.pop(f"audit {mesh}")]
     for name, paths in (("figures", figure_paths), *listing.items(), ("audit", audits)):
         print(f"{name}: wrote {len(paths)} files under {out}")
         for p in paths:

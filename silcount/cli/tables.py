@@ -7,13 +7,14 @@ from pathlib import Path
 
 FORMATS = ("md", "csv", "tex")
 
-HELP = "the EESD paper's Tables 1-2 and the HSD equivalents: printed, re-derived, measured"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=FORMATS, default="md", help="output format (default md)")
     parser.add_argument(
-        "--out", type=Path, default=None, help="write tables.md, tables.csv and tables.tex into this directory"
+        "--out",
+        type=Path,
+        default=None,
+        help="write tables.md, tables.csv and tables.tex into this directory (missing folders are created)",
     )
 
 
@@ -25,9 +26,11 @@ def report(out_dir: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from silcount.atomic import check_writable
     from silcount.papers.tables import format_tables, write_all
 
     if args.out is not None:
+        check_writable(args.out, folder=True)
         for path in write_all(args.out):
             print(path)
     else:

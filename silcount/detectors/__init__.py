@@ -26,16 +26,19 @@ compiled walk, both on counting arithmetic, and the detector glue),
 ``morton.py`` (their Z-order keys), ``eesd_rays.py`` (EESD's outward points and
 rays) and ``eesd_counted.py`` (EESD's counted routines).  :data:`REGISTRY` maps each name to its ``detect``,
 :data:`LABELS` to the name tables and figures give it; :data:`ONE_VARIANT` are
-the detectors with one variant (:func:`variants_of`).
+the detectors with one variant (:func:`variants_of`), and :func:`runs` names
+each run of a sweep over detectors and variants.
 """
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Sequence
+from types import ModuleType
 
 import numpy as np
 
-from silcount.detectors import cones, eesd, gaussmap, hsd, reference, ta, vnv
+from silcount import options
 from silcount.detectors.base import ENGINES, VARIANTS
 from silcount.detectors.result import Silhouette, compare_with_reference, differences
 from silcount.errors import check_choice
@@ -43,9 +46,10 @@ from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
 Detector = Callable[..., Silhouette]
-MODULES = (reference, ta, vnv, hsd, eesd, gaussmap, cones)
-"""Each detector's module: ``detect`` and what it declares of itself, from which the tables below are read
-(so that a new detector touches its own module, this tuple and its ``silcount/models/`` file):
+MODULES: tuple[ModuleType, ...] = tuple(importlib.import_module(f"{__name__}.{name}") for name in options.DETECTORS)
+"""Each detector's module, named by :data:`silcount.options.DETECTORS` (where the command line reads the names
+without importing the detectors): ``detect`` and what it declares of itself, from which the tables below are read
+(so that a new detector touches its own module, that tuple and its ``silcount/models/`` file):
 
 * ``NAME``; ``LABEL``, how tables and figures name it; ``PAPER_MODEL``, the ``silcount/models/`` file of its
   ``paper`` cost model; ``ONE_VARIANT``, ``variant`` accepted and ignored (one run, ``intended``);
@@ -67,7 +71,7 @@ LABELS: dict[str, str] = {m.NAME: m.LABEL for m in MODULES}  # how tables and fi
 PAPER_MODEL: dict[str, str] = {m.NAME: m.PAPER_MODEL for m in MODULES}  # the ``paper`` cost model's file
 VISITED_STEP: dict[str, str] = {m.NAME: m.VISITED_STEP for m in MODULES}
 """The step counting the edges (sides, for TA and HSD) a detector's per-light loop examines."""
-PAPERS: tuple[str, ...] = tuple(m.NAME for m in MODULES if not m.LITERATURE and m is not reference)
+PAPERS: tuple[str, ...] = tuple(m.NAME for m in MODULES if not m.LITERATURE and m.NAME != "reference")
 """The papers' detectors (TA, VnV, HSD, EESD): neither the yardstick nor the literature's."""
 PLAIN_QUADRATIC: tuple[str, ...] = tuple(m.NAME for m in MODULES if m.PLAIN_QUADRATIC)
 GROWTH_VARIANT: dict[str, str] = {m.NAME: m.GROWTH_VARIANT for m in MODULES}
@@ -98,6 +102,23 @@ def variants_of(name: str, variants: Sequence[str]) -> tuple[str, ...]:
     """The variants of ``variants`` that are distinct runs of detector ``name``: ``intended`` alone for
     :data:`ONE_VARIANT`, whose ``literal`` would repeat it."""
     return ("intended",) if name in ONE_VARIANT else tuple(variants)
+
+
+def runs(detectors: Sequence[str], variants: Sequence[str]) -> list[tuple[str, str, str]]:
+    """``(key, detector, variant)`` for every distinct run of ``detectors`` under ``variants``
+    (:func:`variants_of`): the key is the detector's name for ``intended``, ``name:variant`` otherwise, as
+    the reports of ``silcount audit`` and ``silcount corpus`` name their runs."""
+    out = []
+    for name in detectors:
+        for variant in variants_of(name, variants):
+            out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
+    return out
+
+
+def is_reference_run(name: str, engine: str) -> bool:
+    """Whether a run of ``name`` on ``engine`` is the reference's ``fast`` run, which a caller that always
+    runs it (for agreement) reuses rather than repeats."""
+    return name == "reference" and engine == "fast"
 
 
 def detect(
@@ -149,8 +170,10 @@ __all__ = [
     "VISITED_STEP",
     "detect",
     "detect_many",
+    "is_reference_run",
     "plain_edge_ids",
     "plain_setup",
+    "runs",
     "variants_of",
     "Silhouette",
     "compare_with_reference",

@@ -301,7 +301,7 @@ def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hi
     # the sort's second buffer in the planes' memory, which the gather fills only afterwards: 12 MiB fewer
     # fresh pages on the 1.04 M bunny (a fresh page costs its first touch)
     pos = sorted_positions(keys, scheme.bits, bits, planes.reshape(-1).view(np.uint8))
-    del keys  # the build's peak stays near the finished tree's size (scripts/bench_literature.py)
+    del keys  # the build's peak stays near the finished tree's size (benchmarks/literature.py)
     order = np.empty(T2 + T1, dtype=np.int32)
     pair_lv = level_starts(T2, leaf_size, fanout)
     other_lv = level_starts(T1, leaf_size, fanout, int(pair_lv[-1]))

@@ -82,6 +82,16 @@ def parse_size(text: str, what: str = "memory size") -> int:
     return int(float(m.group(1)) * scale)
 
 
+def format_size(n: int) -> str:
+    """``1023`` -> ``1023 bytes``, ``1536`` -> ``1.5 KiB``, ... ``TiB``: the unit that keeps the number below 1024."""
+    if n < 1024:
+        return f"{int(n)} byte{'' if n == 1 else 's'}"
+    units, k, value = ("KiB", "MiB", "GiB", "TiB"), 0, n / 1024
+    while value >= 1024 and k < len(units) - 1:
+        value, k = value / 1024, k + 1
+    return f"{value:.1f} {units[k]}"
+
+
 def memory_limit(max_memory: int | None = None) -> int:
     """The byte budget a mesh may need: argument, else ``$SILCOUNT_MAX_MEMORY``, else available RAM."""
     if max_memory is not None:
@@ -105,7 +115,7 @@ def _refuse_if_too_large(path: Path, n_vertices: int, n_faces: int, max_memory: 
     if need > limit:
         raise InvalidMesh(
             f"{path}: too large: {n_vertices} vertices and {n_faces} faces need about "
-            f"{need / 2**20:.1f} MiB, over the limit of {limit / 2**20:.1f} MiB "
+            f"{format_size(need)}, over the limit of {format_size(limit)} "
             f"(set --max-memory or ${MAX_MEMORY_ENV} to raise it)"
         )
 
@@ -115,8 +125,7 @@ def read_file(path: str | os.PathLike, max_memory: int | None = None) -> Parsed:
     """The file's geometry as read, before faces are checked and vertices welded (see :func:`load_mesh`)."""
     p = Path(path)
     try:
-        if not p.exists():
-            raise UnreadableInput(f"{p}: no such file")
+        p.stat()  # a missing file, a broken link or a link loop (ELOOP) raise here, each named below
         if p.is_dir():
             raise UnreadableInput(f"{p}: is a directory, not a mesh file")
         ext = p.suffix.lower()
@@ -131,6 +140,9 @@ def read_file(path: str | os.PathLike, max_memory: int | None = None) -> Parsed:
         parsed = reader.read(p, p.read_bytes())
     except PermissionError:
         raise UnreadableInput(f"{p}: permission denied") from None
+    except FileNotFoundError:
+        broken = f"a symbolic link to {os.readlink(p)}, which does not exist" if p.is_symlink() else "no such file"
+        raise UnreadableInput(f"{p}: {broken}") from None
     except OSError as exc:
         raise UnreadableInput(f"{p}: cannot read: {exc.strerror or 'input/output error'}") from None
     except MemoryError:

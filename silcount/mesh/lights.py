@@ -6,15 +6,29 @@ the light; ``p0`` is the face's first vertex and ``n`` the (unnormalised)
 normal ``(p1 - p0) x (p2 - p0)``.  Exactly zero is *not* light-facing; such
 faces are ties and are counted (HSD paper, Sec. III; EESD paper, Sec. 2,
 ``||v, f|| = (v - f_v) . n_f``).
+
+Random lights (:func:`random_lights`, the recipe of ``silcount audit``, the
+corpus sweep, ``silcount calibrate`` and the benchmarks): unit directions
+drawn from a normal distribution with ``numpy.random.default_rng(seed)``, one
+row of three per light, each normalised; a point light sits
+:data:`LIGHT_DISTANCE` bounding radii from the bounding-box centre along its
+direction.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from silcount.errors import BadArgument
+
+if TYPE_CHECKING:
+    from silcount.mesh.model import Mesh
+
+LIGHT_DISTANCE = 3.0
+"""How far a random point light stands from the mesh's centre, in bounding radii."""
 
 
 def _vec3(values, what: str) -> np.ndarray:
@@ -85,3 +99,24 @@ def facing_values(p0: np.ndarray, normals: np.ndarray, light: Light) -> np.ndarr
         return normals @ np.asarray(light.direction)
     to_light = np.asarray(light.position)[None, :] - p0
     return np.einsum("ij,ij->i", to_light, normals)
+
+
+def random_directions(count: int, seed: int | np.random.SeedSequence) -> np.ndarray:
+    """``count`` unit directions (``(count, 3)``), uniform on the sphere: normal draws from
+    ``numpy.random.default_rng(seed)``, each row normalised."""
+    dirs = np.random.default_rng(seed).normal(size=(count, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    return dirs
+
+
+def sphere_lights(mesh: Mesh, directions: np.ndarray, distance: float = LIGHT_DISTANCE) -> list[Light]:
+    """A point light ``distance`` bounding radii from ``mesh``'s centre along each of ``directions``."""
+    radius = distance * max(mesh.bounding_radius, 1e-12)
+    return [PointLight(mesh.centre + radius * d) for d in directions]
+
+
+def random_lights(
+    mesh: Mesh, count: int, seed: int | np.random.SeedSequence = 0, distance: float = LIGHT_DISTANCE
+) -> list[Light]:
+    """``count`` point lights uniformly on the sphere of ``distance`` x the bounding radius (seeded)."""
+    return sphere_lights(mesh, random_directions(count, seed), distance)

@@ -245,7 +245,8 @@ def from_polygons(vertices, faces, name: str = "mesh", weld_tolerance: float = 0
     bad = ~np.isfinite(verts).all(axis=1)
     if bad.any():
         raise InvalidMesh(
-            f"{int(bad.sum())} vertices have NaN or Inf coordinates (first: vertex {int(np.flatnonzero(bad)[0])})"
+            f"{int(bad.sum())} vertices have NaN or Inf coordinates "
+            f"(first: vertex {int(np.flatnonzero(bad)[0]) + 1}, counting from 1 in the file's order)"
         )
     if isinstance(faces, np.ndarray) and faces.ndim == 2:
         sizes = np.full(faces.shape[0], faces.shape[1], dtype=np.int64)

@@ -23,7 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from silcount.atomic import write_text  # noqa: E402
+from silcount.atomic import make_folder, write_text  # noqa: E402
 from silcount.counting.cycles import builtin_profiles  # noqa: E402
 from silcount.detectors import DETECTORS, LABELS, LITERATURE  # noqa: E402
 from silcount.papers import formulas as F  # noqa: E402
@@ -259,7 +259,7 @@ PARTS = {
 def write_part(out_dir: Path, name: str) -> list[Path]:
     """Write figure ``name`` of :data:`PARTS` (PNG and SVG, or the growth table) into ``out_dir``."""
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     with plt.rc_context(STYLE):  # type: ignore[arg-type]
         return PARTS[name](out_dir)
 

@@ -27,7 +27,7 @@ from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.atomic import write_text
+from silcount.atomic import make_folder, write_text
 from silcount.counting import models
 
 if TYPE_CHECKING:
@@ -180,6 +180,6 @@ def report(out_dir: Path) -> list[Path]:
 def write_all(out_dir: Path) -> list[Path]:
     """Write ``tables.md``, ``tables.csv`` and ``tables.tex`` into ``out_dir``, all from one frame."""
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     df = tables_frame()
     return [write_text(out_dir / f"tables.{fmt}", RENDER[fmt](df)) for fmt in FORMATS]

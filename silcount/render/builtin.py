@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from silcount.atomic import write_text
+from silcount.atomic import make_folder, write_text
 from silcount.errors import check_choice
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh, from_polygons
@@ -119,7 +119,7 @@ def scene_document(name: str, resolution: int = DEFAULT_RESOLUTION) -> dict:
 
 def write_scene_files(dest: Path, resolution: int = DEFAULT_RESOLUTION) -> list[Path]:
     """Write every built-in scene as ``dest/<name>.json`` plus its OBJ meshes under ``dest/meshes/``."""
-    (dest / "meshes").mkdir(parents=True, exist_ok=True)
+    make_folder(dest / "meshes")
     written = []
     for name in BUILTIN:
         _, objects = _parts(name)

@@ -16,13 +16,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from silcount.errors import check_choice
+from silcount.options import RENDER_METHODS as METHODS
 from silcount.render.camera import Camera
 from silcount.render.planar import planar_mask
 from silcount.render.raycast import raycast
 from silcount.render.scene import Scene
 from silcount.render.stencil import depth_pass, render_stencil
-
-METHODS = ("zpass", "zfail", "planar", "raycast")
 
 
 @dataclass

@@ -26,7 +26,7 @@
   is set up once per band it reaches, so bands are few and tall).  Each
   pixel therefore
   sees the same triangles in the same order with the same arithmetic as
-  the single-threaded ``rasterize_serial`` of ``scripts/render_baseline.py``
+  the single-threaded ``rasterize_serial`` of ``tests/oracles/render_baseline.py``
   (commit 318ab63, kept as the baseline), so depth, stencil and ids are
   bit-identical for any number of parts.  Row spans step from row to row
   by exact integer quotient and remainder instead of three divisions per

@@ -109,11 +109,22 @@ def _vec(value, what: str, path: Path) -> np.ndarray:
     return arr
 
 
-def _object(spec: dict, base: Path, path: Path) -> SceneObject:
+def _resolution(value, path: Path) -> tuple[int, int]:
+    """``[width, height]``: two JSON integers (``512.5`` is refused, not rendered at 512)."""
+    if (
+        not isinstance(value, list)
+        or len(value) != 2
+        or not all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+    ):
+        raise UnreadableInput(f"{path}: resolution must be [width, height], two whole numbers of pixels, got {value!r}")
+    return value[0], value[1]
+
+
+def _object(spec: dict, base: Path, path: Path, max_memory: int | None = None) -> SceneObject:
     if not isinstance(spec, dict) or "mesh" not in spec:
         raise UnreadableInput(f"{path}: every object needs a 'mesh' path, got {spec!r}")
     name = str(spec.get("name", Path(spec["mesh"]).stem))
-    mesh = load_mesh(base / spec["mesh"])
+    mesh = load_mesh(base / spec["mesh"], max_memory=max_memory)
     if not mesh.is_triangle_mesh:
         raise UnreadableInput(f"{path}: object {name!r}: scene meshes must be triangle meshes")
     scale = spec.get("scale", 1.0)
@@ -126,8 +137,9 @@ def _object(spec: dict, base: Path, path: Path) -> SceneObject:
     return SceneObject(name, from_polygons(world, mesh.faces, name=name), bool(spec.get("casts_shadow", True)))
 
 
-def load_scene(path: str | os.PathLike) -> Scene:
-    """Parse a ``silcount-scene/1`` JSON file; every failure names the file."""
+def load_scene(path: str | os.PathLike, max_memory: int | None = None) -> Scene:
+    """Parse a ``silcount-scene/1`` JSON file; every failure names the file.  ``max_memory``: the meshes'
+    limit (:func:`silcount.mesh.io.load_mesh`)."""
     p = Path(path)
     try:
         doc = json.loads(p.read_text(encoding="utf-8"))
@@ -140,7 +152,7 @@ def load_scene(path: str | os.PathLike) -> Scene:
             f"{p}: not a {SPEC} file (spec field is {doc.get('spec') if isinstance(doc, dict) else None!r})"
         )
     try:
-        width, height = (int(v) for v in doc["resolution"])
+        width, height = _resolution(doc["resolution"], p)
         cam, light_spec, objs = doc["camera"], doc["light"], doc["objects"]
         fov, near = float(cam["fov_y_deg"]), float(cam["near"])
     except (KeyError, TypeError, ValueError) as exc:
@@ -154,7 +166,7 @@ def load_scene(path: str | os.PathLike) -> Scene:
             light = DirectionalLight(_vec(light_spec["direction"], "light direction", p))
     except (KeyError, TypeError, BadArgument) as exc:
         raise UnreadableInput(f"{p}: bad light: {exc}") from None
-    objects = [_object(o, p.parent, p) for o in objs]
+    objects = [_object(o, p.parent, p, max_memory) for o in objs]
     if not objects:
         raise UnreadableInput(f"{p}: the scene has no objects")
     return Scene(

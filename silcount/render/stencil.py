@@ -35,6 +35,7 @@ import numpy as np
 from silcount.detectors import detect
 from silcount.errors import check_choice
 from silcount.mesh.lights import DirectionalLight
+from silcount.options import SHADOW_TESTS, VOLUMES
 from silcount.render.camera import Camera
 from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
 from silcount.render.receiver import floor_plane
@@ -42,8 +43,6 @@ from silcount.render.scene import Scene
 from silcount.render.volumes import Volume, build_volume
 
 METHODS = ("zpass", "zfail")
-SHADOW_TESTS = ("nonzero", "parity")
-VOLUMES = ("infinite", "truncated", "sides")
 
 
 def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarray:

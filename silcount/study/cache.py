@@ -28,7 +28,7 @@ import os
 from functools import cache
 from pathlib import Path
 
-from silcount.atomic import write_text
+from silcount.atomic import make_folder, write_text
 from silcount.counting.models import models_dir
 from silcount.study.work import Settings
 from silcount.version import __version__
@@ -117,5 +117,5 @@ class Cache:
         path = self.path(key)
         if path is None or result.get("error"):
             return
-        path.parent.mkdir(parents=True, exist_ok=True)
+        make_folder(path.parent)
         write_text(path, json.dumps({**result, "timing": timing_of(settings)}, sort_keys=True))

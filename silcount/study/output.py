@@ -21,7 +21,7 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.atomic import atomic_path, write_text
+from silcount.atomic import atomic_path, make_folder, write_text
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -100,7 +100,7 @@ def write_out(result: CorpusResult, out_dir: Path, with_rows: bool = True) -> li
     from silcount.study.literature import kind_frame
     from silcount.study.literature_page import TITLE, page
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     paths = []
     if with_rows:
         path = out_dir / "corpus.parquet"

@@ -35,13 +35,23 @@ Scheduling (docs/corpus.md, "Scheduling"):
   workers are meant to hold one thread per core.  Two workers that each ran
   numba's OpenMP pool on every core spun against each other: the shared
   corpus took 84.2 s on two workers against 87.8 s on one.
+
+Ctrl-C: a terminal sends SIGINT to the whole foreground process group, the
+``processes`` workers included, which printed two ``KeyboardInterrupt``
+tracebacks (67 lines) when it came while they were starting.  The workers are
+therefore spawned with SIGINT blocked, which they inherit, and the client,
+which gets the signal as ever, terminates them (they write nothing: every
+result is cached by the client, so a rerun resumes from the finished units).
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+import signal
+import threading
+from collections.abc import Callable, Iterator
 from concurrent.futures import CancelledError
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from silcount.errors import BadArgument
@@ -134,6 +144,10 @@ def _local(
     pool = process_pool(min(workers, len(todo))) if scheduler == "processes" else None  # threads: Dask's own
     try:
         _compute(items, todo, settings, scheduler, workers, finish, pool)
+    except KeyboardInterrupt:
+        if pool is not None:
+            stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
+        raise
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)  # after an error, queued units do not run
@@ -177,15 +191,61 @@ def process_pool(workers: int):
     made before Dask is imported.  Dask's worker initializer only re-seeds numpy's global random state when
     numpy was inherited by a fork, so it is not needed.  Each process starts on a first no-op call
     (:func:`_started`), so that its start (0.25 s) and its import of silcount and numba (0.5 s) begin now,
-    not at the first unit's submission.
+    not at the first unit's submission.  They start with SIGINT blocked (:func:`_ctrl_c_held`): a Ctrl-C is
+    the client's to handle, by :func:`stop_workers`.
     """
-    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-    for _ in range(workers):  # a submission without an idle process starts one
-        pool.submit(_started)
+    from silcount.study.spawn import spawn_context
+
+    pool = ProcessPoolExecutor(workers, mp_context=spawn_context())  # workers do not re-run the caller's __main__
+    try:
+        with _ctrl_c_held():
+            for _ in range(workers):  # a submission without an idle process starts one, in this thread
+                pool.submit(_started)
+    except KeyboardInterrupt:  # held while they started, delivered on release
+        stop_workers(pool)
+        raise
     return pool
+
+
+@contextmanager
+def _ctrl_c_held() -> Iterator[None]:
+    """Hold Ctrl-C while processes start: they never hear it, and a Ctrl-C that comes meanwhile is raised after.
+
+    SIGINT is blocked in this thread, and a process inherits the signal mask of the thread that forks it
+    (through ``exec`` too), so the workers start with SIGINT blocked.  The client's other threads (an
+    import, Dask's, tqdm's) do not block it, so the kernel hands a Ctrl-C to one of them; Python's
+    handler then runs in this thread, which would interrupt a worker's start half-way (the worker dies
+    on ``EOFError`` reading what it was never sent): meanwhile the handler only notes the signal.
+    """
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield  # only the main thread may set handlers; not POSIX
+        return
+    heard: list[int] = []
+    handler = signal.signal(signal.SIGINT, lambda signum, frame: heard.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        signal.signal(signal.SIGINT, handler if handler is not None else signal.default_int_handler)
+    if heard:
+        raise KeyboardInterrupt
+
+
+def stop_workers(pool) -> None:
+    """Terminate the processes of ``pool`` (a ``ProcessPoolExecutor``) now, mid-unit if need be.
+
+    ``ProcessPoolExecutor`` has no public way to do it before Python 3.14 (``terminate_workers``); its
+    ``_processes`` maps each worker's pid to its ``multiprocessing.Process``.
+    """
+    terminate = getattr(pool, "terminate_workers", None)
+    if terminate is not None:
+        terminate()
+        return
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        process.terminate()
 
 
 def _started() -> None:

@@ -14,10 +14,11 @@ Decisions, named:
 
 * **Lights** (:func:`mesh_lights`): unit directions drawn from
   ``numpy.random.default_rng(SeedSequence([seed, *sha256 words]))``, normal
-  then normalised, so a mesh's lights depend on ``--seed`` and its own bytes
-  only, never on the other files of the sweep.  ``directional`` uses them as
-  directions towards the light; ``point`` puts a light at 3x the source's
-  bounding radius from its bounding-box centre along each; ``both`` is the
+  then normalised (:func:`silcount.mesh.lights.random_directions`), so a
+  mesh's lights depend on ``--seed`` and its own bytes only, never on the
+  other files of the sweep.  ``directional`` uses them as directions towards
+  the light; ``point`` puts a light at 3x the source's bounding radius from
+  its bounding-box centre along each (:func:`silcount.mesh.lights.sphere_lights`); ``both`` is the
   directional set followed by the point set along the *same* directions (a
   paired comparison).  Every subdivision level of a file gets its source's
   lights (subdivision moves no point, so centre and radius are the source's).
@@ -75,17 +76,17 @@ from silcount.detectors import (
     Silhouette,
     detect_many,
     differences,
+    is_reference_run,
     plain_edge_ids,
     plain_setup,
-    variants_of,
+    runs,
 )
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
-from silcount.mesh.lights import DirectionalLight, Light, PointLight
+from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_directions, sphere_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import coplanar_polygons
 
-LIGHT_DISTANCE = 3.0
 LIGHT_KINDS = ("directional", "point", "both")
 FLAT_RELATIVE = 1e-9
 """A mesh is *flat* when its vertices' smallest principal extent is at most this times the largest."""
@@ -108,13 +109,8 @@ class Settings:
     profiles: tuple[str, ...] = field(default_factory=lambda: tuple(builtin_profiles()))
 
     def runs(self) -> list[tuple[str, str, str]]:
-        """(key, detector, variant) per run; ``reference``, ``gaussmap`` and ``cones`` have the one variant
-        (:func:`silcount.detectors.variants_of`), keys as in ``silcount audit``."""
-        out = []
-        for name in self.detectors:
-            for variant in variants_of(name, self.variants):
-                out.append((name if variant == "intended" else f"{name}:{variant}", name, variant))
-        return out
+        """(key, detector, variant) per run (:func:`silcount.detectors.runs`), keys as in ``silcount audit``."""
+        return runs(self.detectors, self.variants)
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -129,15 +125,12 @@ def sha256_words(sha256: str) -> list[int]:
 
 def mesh_lights(mesh: Mesh, settings: Settings, sha256: str) -> list[Light]:
     """The lights of a file (see the module docstring); ``mesh`` is the source (level 0)."""
-    rng = np.random.default_rng(np.random.SeedSequence([int(settings.seed), *sha256_words(sha256)]))
-    dirs = rng.normal(size=(settings.lights, 3))
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    dirs = random_directions(settings.lights, np.random.SeedSequence([int(settings.seed), *sha256_words(sha256)]))
     out: list[Light] = []
     if settings.light_kind in ("directional", "both"):
         out += [DirectionalLight(d) for d in dirs]
     if settings.light_kind in ("point", "both"):
-        radius = LIGHT_DISTANCE * max(mesh.bounding_radius, 1e-12)
-        out += [PointLight(mesh.centre + radius * d) for d in dirs]
+        out += sphere_lights(mesh, dirs)
     return out
 
 
@@ -322,7 +315,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     runs: list[tuple[dict[str, list], list[tuple[str, ...]]]] = []
     builds: dict[str, dict] = {}
     for key, name, variant in settings.runs():  # each detector over every light at once (detect_many)
-        if name == "reference" and settings.engine == "fast":
+        if is_reference_run(name, settings.engine):
             results = refs
         else:
             results = detect_many(mesh, lights, name, variant=variant, engine=settings.engine)

@@ -106,7 +106,9 @@ def refuse_if_short(path: Path, fmt: str, nv: int, nf: int, size: int) -> None:
         )
 
 
-def _plural(n: int, word: str) -> str:
+def plural(n: int, word: str) -> str:
+    """``n word``, with an ``s`` unless ``n`` is one: ``plural(1, "face")`` is ``1 face``, ``plural(2, "face")``
+    ``2 faces``."""
     return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
@@ -135,7 +137,7 @@ def clean_faces(parsed: Parsed) -> tuple[np.ndarray, np.ndarray, list[str], str]
     def out_text(count: int, first: int) -> str:
         bad = int(written[start[first] + int(np.flatnonzero(out_corner[start[first] : start[first + 1]])[0])])
         return (
-            f"{_plural(count, 'face')} indexing a missing vertex (first: {parsed.where(first)}, "
+            f"{plural(count, 'face')} indexing a missing vertex (first: {parsed.where(first)}, "
             f"vertex {bad}; the file has {nv} {'vertex' if nv == 1 else 'vertices'})"
         )
 
@@ -167,9 +169,9 @@ def clean_faces(parsed: Parsed) -> tuple[np.ndarray, np.ndarray, list[str], str]
     few = (distinct < 3) & ~out_of_range
     touching &= ~few & ~out_of_range
     reasons.append(
-        (few, lambda k, i: f"{_plural(k, 'face')} with fewer than 3 distinct vertices (first: {parsed.where(i)})")
+        (few, lambda k, i: f"{plural(k, 'face')} with fewer than 3 distinct vertices (first: {parsed.where(i)})")
     )
-    reasons.append((touching, lambda k, i: f"{_plural(k, 'face')} visiting a vertex twice (first: {parsed.where(i)})"))
+    reasons.append((touching, lambda k, i: f"{plural(k, 'face')} visiting a vertex twice (first: {parsed.where(i)})"))
     drop = out_of_range | few | touching
     warnings = list(parsed.notes)
     for mask, text in reasons:
@@ -178,7 +180,7 @@ def clean_faces(parsed: Parsed) -> tuple[np.ndarray, np.ndarray, list[str], str]
     read_once = runs & ~drop
     if read_once.any():
         warnings.append(
-            f"{_plural(int(read_once.sum()), 'face')} repeating a vertex in a row, read as the polygon of "
+            f"{plural(int(read_once.sum()), 'face')} repeating a vertex in a row, read as the polygon of "
             f"their distinct corners (first: {parsed.where(int(np.flatnonzero(read_once)[0]))})"
         )
     if n and drop.all():

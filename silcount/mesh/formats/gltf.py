@@ -40,6 +40,8 @@ def read(path: Path, data: bytes) -> Parsed:
             loaded = trimesh.load(str(path), force="mesh", process=False)
             verts = np.asarray(getattr(loaded, "vertices", np.zeros((0, 3))), dtype=np.float64).reshape(-1, 3)
             faces = np.asarray(getattr(loaded, "faces", np.zeros((0, 3))), dtype=np.int64)
+    except FileNotFoundError as exc:  # trimesh's resolver: a buffer or image file the glTF names is not there
+        raise UnreadableInput(f"{path}: the file {exc} it refers to is missing (looked in {path.parent})") from None
     except Exception:  # trimesh raises many types on corrupt input; all mean "cannot parse"
         raise UnreadableInput(f"{path}: cannot parse as {fmt}: not a valid {fmt} file") from None
     if faces.size and (faces.ndim != 2 or faces.shape[1] < 3):

@@ -23,19 +23,13 @@ from typing import Protocol
 
 import numpy as np
 
-
-class _Prop(Protocol):
-    count: str | None
+from silcount.mesh.formats.common import plural
 
 
 class Element(Protocol):
     name: str
     n: int
     props: list
-
-
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
 def _owner(records: Sequence[Element], row: int) -> tuple[int, Element]:
@@ -109,7 +103,7 @@ def by_lines(body: bytes, vals: np.ndarray, elements: Sequence[Element], header_
     start, e = _owner(records, hit)
     n_rec, n_val = int(np.count_nonzero(extra)), int(extra.sum())
     note = (
-        f"ASCII PLY: {_plural(n_rec, 'record')} {'carries' if n_rec == 1 else 'carry'} {_plural(n_val, 'value')} "
+        f"ASCII PLY: {plural(n_rec, 'record')} {'carries' if n_rec == 1 else 'carry'} {plural(n_val, 'value')} "
         f"past the properties the header declares (first: element '{e.name}' record {hit - start}, line "
         f"{header_lines + int(line[first[hit]]) + 1}); every record is on its own line, so the declared "
         "properties were read and the extra values ignored"

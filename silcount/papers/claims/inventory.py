@@ -101,12 +101,27 @@ def mesh_ratio(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def two_meanings(c: dict, source: str, family: str, readings: list[Reading], what: str, quantity: str) -> Claim:
+    """Rule 15 (docs/claims.md): two of the paper's statements give one quantity two meanings.
+
+    Each reading takes one statement as meant and judges the other by it, so a reading holds only where the
+    two agree: a claim that they agree FAILS when under each reading one of them is false (the meaning of n,
+    EESD Sec. 5 and HSD Sec. VI; HSD's sides per polygon, Sec. VI 6.3).  The claims that depend on which one
+    the authors meant are judged under both readings (rule 5), and are AMBIGUOUS where the readings disagree.
+    """
+    return _judged(
+        c, source, family, readings, reason=f"{what} give {quantity} two meanings; under each, one of them is false."
+    )
+
+
 def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
     sub = F.substitutions(c.get("model", "eesd2012-ta"))
+    # the paper's own ratios with n vertices: V/F = 2 (f_n = n/2) and E/V = 3 (e_n = 3n)
+    agree = sp.simplify(sub[F.f_n] - F.n / 2) == 0 and sp.simplify(sub[F.e_n] - 3 * F.n) == 0
     readings = [
         Reading(
             "n = vertices (as the text says)",
-            False,
+            agree,
             c.get(
                 "vertices_reading_note",
                 f"the sums substitute f_n = {sp.sstr(sub[F.f_n])}, e_n = {sp.sstr(sub[F.e_n])}: with n vertices the "
@@ -115,7 +130,7 @@ def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
         ),
         Reading(
             "n = faces (as the substitutions say)",
-            False,
+            agree,
             c.get(
                 "faces_reading_note",
                 "then the text's 'n vertices' and the tables' 'number of vertices on the corner of occluder is 10' "
@@ -123,13 +138,7 @@ def n_meaning(c: dict, source: str, ev: Evidence) -> Claim:
             ),
         ),
     ]
-    return _judged(
-        c,
-        source,
-        "mesh model",
-        readings,
-        reason="the text and the substitutions give n two meanings; under each, one of them is false.",
-    )
+    return two_meanings(c, source, "mesh model", readings, "the text and the substitutions", "n")
 
 
 def table_point(c: dict, source: str, ev: Evidence) -> Claim:
@@ -231,17 +240,17 @@ def loop_bound(c: dict, source: str, ev: Evidence) -> Claim:
     c = {**c, "table_reading": c.get("table_reading") or F.models.load(c["model"]).get("table_reading", "")}
     loop = F.models.load(c["model"])["loops"][c["loop"]]
     prose, printed = F.parse(loop["bound"]), F.parse(loop["bound_printed"])
+    agree = sp.simplify(prose - printed) == 0
     readings = [
-        Reading("'decreased to 1'", True, f"the printed sum's {printed} follows"),
-        Reading("'decreased by 1' (m - 1)", sp.simplify(prose - printed) == 0, f"the sum should use {prose}"),
+        Reading(
+            "'decreased to 1' (the sum as meant)",
+            agree,
+            f"the sentence's 'decreased by 1' gives {prose}, not {printed}",
+        ),
+        Reading("'decreased by 1' (the sentence as meant: m - 1)", agree, f"the sum should use {prose}"),
     ]
-    return _judged(
-        c,
-        source,
-        "derivation",
-        readings,
-        reason="the sentence and the sum disagree and the paper does not say which is meant; every HSD "
-        "claim is judged under both.",
+    return two_meanings(
+        c, source, "derivation", readings, "the sentence and the sum", "the sides HSD visits per polygon (m)"
     )
 
 

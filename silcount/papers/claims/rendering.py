@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.atomic import write_text
+from silcount.atomic import make_folder, write_text
 from silcount.papers.claims.base import AMBIGUOUS, FAILS, HOLDS, PAPER_LABEL, Claim, show_readings
 
 if TYPE_CHECKING:
@@ -188,7 +188,7 @@ def findings(claims: list[Claim]) -> str:
 
 
 def write_all(claims: list[Claim], out_dir: Path) -> list[Path]:
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir)
     return [
         write_text(out_dir / f"claims.{ext}", RENDER[fmt](claims))
         for ext, fmt in (("txt", "text"), ("md", "md"), ("json", "json"))

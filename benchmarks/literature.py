@@ -1,8 +1,8 @@
-"""The ``literature`` section of bench_detectors.py: gaussmap and cones against the reference kernel.
+"""The ``literature`` section of ``benchmarks.detectors``: gaussmap and cones against the reference kernel.
 
-    SILCOUNT_MESH_DIR=/path/to/shared/data python scripts/bench_detectors.py --sections literature
+    SILCOUNT_MESH_DIR=/path/to/shared/data python -m benchmarks.detectors --sections literature
 
-On the mesh of bench_detectors.py (1,043,264 faces with 3 rounds), in one run:
+On the mesh of ``benchmarks.detectors`` (1,043,264 faces with 3 rounds), in one run:
 
 * per light (8 directional, 8 point: ``lights(mesh, 16, seed=11)``), the first call
   of each compiled query right after a reference pass (its caches as a frame's other
@@ -36,9 +36,9 @@ import tracemalloc
 
 import numba
 import numpy as np
-from bench_detectors import best_time, floor_of, lights
 
 import silcount
+from benchmarks.common import best_time, floor_of, lights
 from silcount.detectors import adjacency, cones, gaussmap, hierarchy, hierarchy_build, hierarchy_query
 
 REPEAT = 5  # best of, per light and query

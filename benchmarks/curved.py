@@ -1,11 +1,11 @@
 """The nine-variant audit on a curved mesh with no coplanar runs (issue 44, item 5): a torus or a sphere.
 
-    python scripts/bench_curved.py [--shape torus|sphere] [--faces 1000000] [--baseline-tree DIR]
+    python -m benchmarks.curved [--shape torus|sphere] [--faces 1000000] [--baseline-tree DIR]
 
-``bench_detectors.py``'s audit section measures the subdivided bunny, where
+``benchmarks.detectors``' audit section measures the subdivided bunny, where
 every 64 consecutive faces lie in one plane: the best case of EESD literal's
 plane walk (:mod:`silcount.detectors.onplane`).  Here the same audit
-(``run_audit`` with ``--variant both``, one light, ``bench_detectors.audit_figures``)
+(``run_audit`` with ``--variant both``, one light, ``benchmarks.detectors.audit_figures``)
 runs on a torus (``shapes.torus``, 2 x n x n/2 faces) or an icosphere
 (20 x 4^k faces) of about ``--faces`` faces, in a fresh process per tree:
 wall time, peak RSS, each variant's time, and the load average before and
@@ -21,10 +21,9 @@ import json
 import math
 import os
 import subprocess
-import sys
 
-from bench_detectors import audit_figures
-
+from benchmarks.common import child_command, load_line, tree_env
+from benchmarks.detectors import audit_figures
 from silcount.mesh import shapes
 from silcount.mesh.model import Mesh
 
@@ -43,11 +42,10 @@ def child(shape: str, faces: int, dump: str) -> None:
 
 
 def run_tree(tree: str | None, shape: str, faces: int, dump: str) -> dict:
-    env = dict(os.environ)
+    env = tree_env(tree)
     if tree is not None:
-        env["PYTHONPATH"] = tree
         env["NUMBA_CACHE_DIR"] = env.get("NUMBA_CACHE_DIR", "/tmp/numba") + "-baseline"
-    cmd = [sys.executable, __file__, "--child", "--shape", shape, "--faces", str(faces), "--dump", dump]
+    cmd = child_command(__spec__.name, "--child", "--shape", shape, "--faces", str(faces), "--dump", dump)
     out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -63,7 +61,7 @@ def main() -> None:
     if args.child:
         child(args.shape, args.faces, args.dump)
         return
-    print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
+    print(f"at start: {load_line()}")
     trees = {"this tree": None} if args.baseline_tree is None else {"baseline": args.baseline_tree, "this tree": None}
     dumps = {label: f"/tmp/bench_curved_{os.getpid()}_{i}.json" for i, label in enumerate(trees)}
     got = {label: run_tree(tree, args.shape, args.faces, dumps[label]) for label, tree in trees.items()}
@@ -80,7 +78,7 @@ def main() -> None:
         print(f"audits identical (all fields but time_s): {same}")
     for path in dumps.values():
         os.remove(path)
-    print(f"load average after: {' '.join(f'{x:.1f}' for x in os.getloadavg())} (figures taken under this load)")
+    print(f"after: {load_line()} (figures taken under this load)")
 
 
 if __name__ == "__main__":

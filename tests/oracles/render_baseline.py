@@ -2,7 +2,7 @@
 
 :func:`silcount.render.raster.rasterize` (two cores, clipped and snapped once,
 filled in row strips) must equal it bit for bit on depth, stencil and ids
-(``tests/test_render_bands.py``), and ``scripts/bench_render.py`` times it
+(``tests/test_render_bands.py``), and ``benchmarks/render.py`` times it
 against this one in the same run.  It shares the clipper and the span solver.
 """
 
@@ -62,7 +62,7 @@ def _fill(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil
 @njit(cache=True)
 def rasterize_serial(clip, ids, mode, depth, stencil, tri_id):
     """The single-threaded rasteriser of commit 318ab63, kept as the baseline :func:`rasterize` must equal
-    bit for bit (``tests/test_render_bands.py``) and be timed against (``scripts/bench_render.py``)."""
+    bit for bit (``tests/test_render_bands.py``) and be timed against (``benchmarks/render.py``)."""
     H, W = depth.shape
     poly = np.empty((_MAXV, 4))
     tmp = np.empty((_MAXV, 4))

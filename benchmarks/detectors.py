@@ -1,6 +1,6 @@
 """Benchmark the detectors on a ~1.1M-face mesh and print the figures (issues 3 and 15, Performance).
 
-    SILCOUNT_MESH_DIR=/path/to/shared/data python scripts/bench_detectors.py [--rounds 3] [--timeout 300] \
+    SILCOUNT_MESH_DIR=/path/to/shared/data python -m benchmarks.detectors [--rounds 3] [--timeout 300] \
         [--baseline-tree DIR] [--sections reference,many,audit,fast,naive,literature]
 
 ``--baseline-tree``: a checkout of the code to compare with (e.g. ``git
@@ -28,7 +28,7 @@ same run, and print both figures and their ratio.
    two trees' audits (without times) are identical.
 7. ``literature`` (not in the default set): ``gaussmap`` and ``cones`` (their
    compiled queries and builds) against the reference kernel, a leaf size x
-   fan-out sweep and a table of targets; in ``bench_literature.py``.
+   fan-out sweep and a table of targets; in ``benchmarks/literature.py``.
 
 Timings on a shared 2-core machine are noisy: read the ratios, not the digits.
 """
@@ -43,51 +43,13 @@ import resource
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
-import trimesh
 
 import silcount
+from benchmarks.common import best_time, build_mesh, child_command, floor_of, lights, load_line, tree_env
 from silcount.detectors import DETECTORS
 from silcount.detectors import adjacency as ref_module
-
-
-def build_mesh(rounds: int) -> silcount.Mesh:
-    base = Path(os.environ["SILCOUNT_MESH_DIR"]) / "bunny.ply"
-    m = silcount.load_mesh(base)
-    v, f = m.vertices, m.faces
-    for _ in range(rounds):
-        v, f = trimesh.remesh.subdivide(v, f)
-    return silcount.from_polygons(v, f, name=f"bunny_sub{rounds}")
-
-
-def lights(mesh: silcount.Mesh, k: int, seed: int = 1):
-    rng = np.random.default_rng(seed)
-    out = []
-    for i in range(k):
-        d = rng.normal(size=3)
-        d /= np.linalg.norm(d)
-        out.append(
-            silcount.DirectionalLight(d) if i % 2 else silcount.PointLight(mesh.centre + 3 * mesh.bounding_radius * d)
-        )
-    return out
-
-
-def best_time(fn, repeat: int) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
-
-
-def read_bandwidth() -> float:
-    """Bytes per second of the faster of ``np.sum`` and ``np.max`` over 256 MiB (larger than any cache here)."""
-    a = np.ones(256 * 2**20 // 8)
-    a.sum()
-    return a.nbytes / min(best_time(a.sum, 7), best_time(a.max, 7))
 
 
 def numpy_baseline(mesh: silcount.Mesh):
@@ -125,13 +87,6 @@ def reference_figures(mesh: silcount.Mesh) -> dict:
     base = numpy_baseline(mesh)
     q_np = min(best_time(lambda L=L: base(L), 3) for L in ls)
     return {"first": first, "core": q_core, "detect": q_detect, "full": q_full, "numpy": q_np}
-
-
-def floor_of(mesh: silcount.Mesh) -> tuple[float, float, float]:
-    F, E2 = mesh.n_faces, int(np.count_nonzero(mesh.edge_valence == 2))
-    need = 48 * F + 8 * E2
-    bw = read_bandwidth()
-    return need, bw, need / bw
 
 
 def section_reference(mesh: silcount.Mesh, baseline: str | None, rounds: int) -> None:
@@ -230,11 +185,10 @@ def section_audit(baseline: str | None, rounds: int) -> None:
 
 def child_json(section: str, tree: str | None, rounds: int, dump: str | None = None) -> dict:
     """Run one section's figures in a fresh process on ``tree`` (None: this one); its JSON."""
-    env = dict(os.environ)
+    env = tree_env(tree)
     if tree is not None:
-        env["PYTHONPATH"] = tree
         env["NUMBA_CACHE_DIR"] = env.get("NUMBA_CACHE_DIR", "/tmp/numba") + "-baseline"
-    cmd = [sys.executable, __file__, "--child", section, "--rounds", str(rounds)] + (["--dump", dump] if dump else [])
+    cmd = child_command(__spec__.name, "--child", section, "--rounds", str(rounds)) + (["--dump", dump] if dump else [])
     out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -363,7 +317,7 @@ def main(argv=None) -> int:
         f"mesh: bunny.ply + {args.rounds} rounds of 1-to-4 midpoint subdivision: V={mesh.n_vertices:,} "
         f"F={mesh.n_faces:,} E={mesh.n_edges:,} (built in {time.perf_counter() - t:.1f} s)"
     )
-    print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
+    print(f"at start: {load_line()}")
     names = list(DETECTORS)
     if "reference" in sections:
         section_reference(mesh, args.baseline_tree, args.rounds)
@@ -376,7 +330,7 @@ def main(argv=None) -> int:
     if "naive" in sections:
         section_naive(names, args.naive_timeout)
     if "literature" in sections:
-        from bench_literature import section_literature  # a sibling script (sys.path[0] is scripts/)
+        from benchmarks.literature import section_literature
 
         section_literature(mesh)
     return 0

@@ -17,8 +17,8 @@ runs every configuration a second time with the package imported from DIR (a
 checkout of an earlier commit; ``PYTHONPATH``), and prints the ratios.  The
 ratio lines compare runs of this invocation.
 
-    python scripts/bench_corpus.py [CORPUS_DIR] [--workers 1x1,1,2] [--subdivide 0] [--with-time]
-                                   [--baseline-tree DIR]
+    python -m benchmarks.corpus [CORPUS_DIR] [--workers 1x1,1,2] [--subdivide 0] [--with-time]
+                                [--baseline-tree DIR]
 """
 
 from __future__ import annotations
@@ -33,7 +33,8 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from benchmarks.common import ROOT, child_command, tree_env
+
 TARGET_S = 300.0
 
 
@@ -79,12 +80,10 @@ def one(folder: Path, workers: int, levels: list[int], with_time: bool) -> dict:
 def run_config(folder: Path, config: str, args, tree: str | None) -> dict:
     """One configuration (``N`` or ``NxT``) in a fresh process; the package from ``tree`` when given."""
     workers, _, threads = config.partition("x")
-    env = dict(os.environ)
+    env = tree_env(tree or None)
     if threads:
         env["NUMBA_NUM_THREADS"] = threads
-    if tree:
-        env["PYTHONPATH"] = str(Path(tree).resolve())
-    cmd = [sys.executable, __file__, str(folder), "--one", workers, "--subdivide", args.subdivide]
+    cmd = child_command(__spec__.name, str(folder), "--one", workers, "--subdivide", args.subdivide)
     out = subprocess.run(cmd + (["--with-time"] if args.with_time else []), capture_output=True, text=True, env=env)
     if out.returncode:
         sys.exit(f"{config} ({tree or 'this tree'}): failed:\n{out.stderr}")

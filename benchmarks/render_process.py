@@ -1,12 +1,12 @@
-"""Section 1c of bench_render.py: ``silcount render`` as whole processes, this tree against a baseline commit.
+"""Section 1c of ``benchmarks.render``: ``silcount render`` as whole processes, this tree against a baseline commit.
 
 ``silcount render SCENE --method zfail`` is timed as a whole process, this
 tree against :data:`BASELINE_COMMIT` (``git archive`` into a temporary
 folder, its own numba cache), interleaved, after one warm-up each, plus where
-the time goes (see bench_render.py's docstring, 1c); with ``--llvmpipe`` a
-whole llvmpipe process (scripts/gl_stencil.py) runs interleaved with them.
+the time goes (see ``benchmarks/render.py``'s docstring, 1c); with ``--llvmpipe`` a
+whole llvmpipe process (``tests/oracles/gl_stencil.py``) runs interleaved with them.
 
-    .venv/bin/python scripts/bench_render_process.py SCENE.json [--runs 3] [--llvmpipe]
+    .venv/bin/python -m benchmarks.render_process SCENE.json [--runs 3] [--llvmpipe]
 """
 
 from __future__ import annotations
@@ -58,21 +58,31 @@ def whole_process(scene: Path, runs: int, llvmpipe: bool) -> None:
         times: dict[str, list[float]] = {k: [] for k in [*trees, "llvmpipe"]}
         stages: dict[str, list[list[float]]] = {k: [] for k in times}
         if llvmpipe:
-            from gl_stencil import bake
+            from tests.oracles.gl_stencil import bake
 
             baked = Path(td) / "scene.npz"
             bake(load_scene(scene), str(baked))
-            gl_cmd = [sys.executable, str(REPO / "scripts" / "gl_stencil.py"), str(baked), f"{td}/gl.png", "zfail"]
+            gl_cmd = [
+                sys.executable,
+                str(REPO / "tests" / "oracles" / "gl_stencil.py"),
+                str(baked),
+                f"{td}/gl.png",
+                "zfail",
+            ]
         base_env = dict(os.environ, PYTHONPYCACHEPREFIX=f"{td}/pycache")  # bytecode cached, as after an install
         base_env.pop("PYTHONDONTWRITEBYTECODE", None)
         for i in range(runs + 1):  # run 0 fills each tree's numba cache and the bytecode cache
             for label, (tree, cache) in trees.items():
                 env = dict(base_env, PYTHONPATH=str(tree))
                 env.pop("NUMBA_CACHE_DIR") if not cache else env.update(NUMBA_CACHE_DIR=cache)
-                cmd = [sys.executable, "-m", "silcount.cli.main", "render", str(scene), "--method", "zfail"]
+                # -P: the working directory (this checkout, when run from it) must not shadow the tree's silcount
+                cmd = [sys.executable, "-P", "-m", "silcount.cli.main", "render", str(scene), "--method", "zfail"]
                 t = _timed(cmd + ["--out", str(out)], env)
                 run = subprocess.run(
-                    [sys.executable, "-c", STAGES.format(scene=str(scene))], env=env, capture_output=True, check=True
+                    [sys.executable, "-P", "-c", STAGES.format(scene=str(scene))],
+                    env=env,
+                    capture_output=True,
+                    check=True,
                 )
                 if i:
                     times[label].append(t)
@@ -113,7 +123,7 @@ def whole_process(scene: Path, runs: int, llvmpipe: bool) -> None:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("scene", type=Path, help="a scene file (bench_render.py uses the shared cow_and_cubes.json)")
+    ap.add_argument("scene", type=Path, help="a scene file (benchmarks.render uses the shared cow_and_cubes.json)")
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--llvmpipe", action="store_true", help="also time a whole llvmpipe process (gl extra)")
     args = ap.parse_args()

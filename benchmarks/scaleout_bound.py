@@ -1,12 +1,12 @@
 """The scale-out bound of the corpus sweep on this machine: two workers against one, measured inside the workers.
 
-    python scripts/scaleout_bound.py [CORPUS_DIR] [--repeat 3] [--subdivide 0]
+    python -m benchmarks.scaleout_bound [CORPUS_DIR] [--repeat 3] [--subdivide 0]
 
-The sweep of ``scripts/bench_corpus.py`` (its ``one``: the shared corpus, level 0 or ``--subdivide``'s levels,
+The sweep of ``benchmarks.corpus`` (its ``one``: the shared corpus, level 0 or ``--subdivide``'s levels,
 64 directional lights, every detector, ``intended``, ``fast``, no plain-loop timing, no cache) runs at ``1x1``
 (one worker on one numba thread) and at ``2`` (two workers, one thread each: the sweep's rule on two cores),
 ``--repeat`` times interleaved, each run in a fresh process.  Every worker records each unit's start and end:
-under the ``spawn`` context this script is the workers' main module, so its top level, which wraps
+under the ``spawn`` context this module is the workers' main module, so its top level, which wraps
 ``silcount.study.schedule.audit_task`` when ``SILCOUNT_BOUND_LOG`` names a folder, runs in each of them.
 
 From each run:
@@ -35,6 +35,9 @@ import time
 from pathlib import Path
 from statistics import mean
 
+from benchmarks.common import child_command, tree_env
+from benchmarks.corpus import corpus_dir, one
+
 LOG = os.environ.get("SILCOUNT_BOUND_LOG")
 if LOG:  # in the measured sweep's client and, re-imported as the main module, in each of its workers
     import silcount.study.schedule as _schedule
@@ -57,10 +60,10 @@ def run(folder: Path, config: str, levels: str) -> dict:
     """``config`` in a fresh process: wall, lead, tail, busy, and each worker's unit count."""
     workers, _, threads = config.partition("x")
     with tempfile.TemporaryDirectory() as log:
-        env = {**os.environ, "SILCOUNT_BOUND_LOG": log}
+        env = tree_env(None, SILCOUNT_BOUND_LOG=log)
         if threads:
             env["NUMBA_NUM_THREADS"] = threads
-        cmd = [sys.executable, __file__, str(folder), "--one", workers, "--subdivide", levels]
+        cmd = child_command(__spec__.name, str(folder), "--one", workers, "--subdivide", levels)
         out = subprocess.run(cmd, capture_output=True, text=True, env=env)
         if out.returncode:
             sys.exit(f"{config}: the sweep failed:\n{out.stderr}")
@@ -81,12 +84,10 @@ def run(folder: Path, config: str, levels: str) -> dict:
 
 
 def main() -> None:
-    from bench_corpus import corpus_dir, one  # this script's folder is on the path when it runs
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", nargs="?")
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--subdivide", default="0", help="levels, as bench_corpus.py's (default 0)")
+    ap.add_argument("--subdivide", default="0", help="levels, as benchmarks.corpus's (default 0)")
     ap.add_argument("--one", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     folder = corpus_dir(args.folder)

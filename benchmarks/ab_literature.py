@@ -1,11 +1,11 @@
 """gaussmap's and cones' per-light queries against the reference kernel, in two source trees, interleaved.
 
-    SILCOUNT_MESH_DIR=/path/to/shared/data python scripts/ab_literature.py --baseline-tree DIR [--pairs 4]
+    SILCOUNT_MESH_DIR=/path/to/shared/data python -m benchmarks.ab_literature --baseline-tree DIR [--pairs 4]
 
 Each round runs one subprocess per tree (the baseline first), alternating, so
 that the machine's drift (10-20 % over minutes on a shared 2-core machine)
 falls on both alike.  A subprocess imports ``silcount`` from its tree, builds
-the mesh of ``bench_detectors.py`` (the 1.04 M-face bunny) and both default
+the mesh of ``benchmarks.detectors`` (the 1.04 M-face bunny, this checkout's ``benchmarks.common``) and both default
 trees, and times, per light (``lights(mesh, 16, seed=11)``: 8 directional,
 8 point), the reference kernel (``adjacency.silhouette_edge_ids``) and each
 compiled query (``hierarchy_query.query_fast``), the best of 5 calls, three
@@ -26,12 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.common import ROOT, tree_env
+
 CHILD = r"""
 import json, sys
 tree = sys.argv[1]
-sys.path[:0] = [tree, tree + "/scripts"]
 import numpy as np
-from bench_detectors import best_time, build_mesh, lights
+from benchmarks.common import best_time, build_mesh, lights
 import silcount
 from silcount.detectors import adjacency, cones, gaussmap, hierarchy_query
 assert silcount.__file__.startswith(tree), silcount.__file__
@@ -58,8 +59,8 @@ print(json.dumps({k: float(np.median(v)) for k, v in per.items()}))
 
 
 def run(tree: Path) -> dict[str, float]:
-    out = subprocess.run([sys.executable, "-c", CHILD, str(tree)], check=True, capture_output=True, text=True,
-                         env={**os.environ, "PYTHONPATH": str(tree)})  # fmt: skip
+    cmd = [sys.executable, "-P", "-c", CHILD, str(tree)]  # -P: the working directory's silcount stays unseen
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=tree_env(tree))
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -70,8 +71,7 @@ def main() -> None:
     args = ap.parse_args()
     if "SILCOUNT_MESH_DIR" not in os.environ:
         sys.exit("set SILCOUNT_MESH_DIR to the directory holding bunny.ply")
-    here = Path(__file__).resolve().parent.parent
-    trees = {"baseline": args.baseline_tree.resolve(), "this tree": here}
+    trees = {"baseline": args.baseline_tree.resolve(), "this tree": ROOT}
     got: dict[str, list[dict[str, float]]] = {name: [] for name in trees}
     for i in range(args.pairs):
         for name, tree in trees.items():

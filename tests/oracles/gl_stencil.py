@@ -1,7 +1,7 @@
 """The same stencil shadow-volume frame on Mesa's llvmpipe, through OpenGL (issue 15, "Rendering").
 
 A benchmark baseline, not part of silcount (which renders without OpenGL):
-``scripts/bench_render.py --llvmpipe`` times it against the software
+``python -m benchmarks.render --llvmpipe`` times it against the software
 rasteriser in the same run and compares the masks pixel by pixel.
 
 The GL frame draws exactly the triangles silcount's rasteriser draws, in

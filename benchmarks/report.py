@@ -1,6 +1,6 @@
 """Time `silcount report` on this tree and on a baseline checkout, in one run; check the outputs are byte-identical.
 
-    python scripts/bench_report.py --baseline-tree DIR [--runs 1]
+    python -m benchmarks.report --baseline-tree DIR [--runs 1]
 
 Each tree runs ``python -m silcount.cli.main report --out TMP`` in a fresh
 process (``PYTHONPATH`` set to the tree, its own numba cache directory) after
@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parents[1]
+from benchmarks.common import ROOT, load_line
 
 
 def run_report(tree: Path, out: Path, cache: str) -> tuple[float, float]:
@@ -57,8 +57,8 @@ def main(argv=None) -> int:
     ap.add_argument("--baseline-tree", type=Path, required=True, help="a checkout to compare with")
     ap.add_argument("--runs", type=int, default=1, help="timed runs per tree (the best is printed)")
     args = ap.parse_args(argv)
-    print(f"load average at start: {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
-    trees = {"baseline": args.baseline_tree.resolve(), "this tree": HERE}
+    print(f"at start: {load_line()}")
+    trees = {"baseline": args.baseline_tree.resolve(), "this tree": ROOT}
     with tempfile.TemporaryDirectory() as tmp:
         figures = {}
         for label, tree in trees.items():
@@ -71,7 +71,7 @@ def main(argv=None) -> int:
         print(f"ratio (baseline / this tree): {base / mine:.2f} x")
         diff = differing(Path(tmp) / "baseline", Path(tmp) / "this-tree")
         print(f"outputs byte-identical between the trees: {not diff}" + (f" (differ: {diff})" if diff else ""))
-        diff = differing(HERE / "reports", Path(tmp) / "this-tree")
+        diff = differing(ROOT / "reports", Path(tmp) / "this-tree")
         print(f"identical to this tree's committed reports/: {not diff}" + (f" (differ: {diff})" if diff else ""))
     return 0
 

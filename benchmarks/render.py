@@ -6,11 +6,11 @@
    ``reference`` detector), volume build and rasterisation (the depth pass
    of the scene plus the stencil pass of the volumes), for three rasterisers
    measured in the same run: the baseline (the single-threaded rasteriser of
-   commit 318ab63, ``scripts/render_baseline.py``), the current one on one
+   commit 318ab63, ``tests/oracles/render_baseline.py``), the current one on one
    part, and on ``numba.get_num_threads()`` parts (the default).
 1b. The rasterisation alone (depth pass, stencil pass) on cow_and_cubes, wall
    and CPU time, the three rasterisers interleaved run by run.
-1c. ``--whole-process`` (scripts/bench_render_process.py): ``silcount render
+1c. ``--whole-process`` (``benchmarks.render_process``): ``silcount render
    cow_and_cubes.json --method zfail`` as a whole process, this tree against
    commit 318ab63 (``git archive`` into a temporary folder, its own numba
    cache), interleaved, after one warm-up each (numba caches filled), plus
@@ -35,7 +35,7 @@ Timings are the best of ``--repeat`` runs after one warm-up (numba
 compilation), wall clock, column by column (as ``timeit`` advises: on a
 shared machine the minimum is the least disturbed estimate); expect noise.
 
-    .venv/bin/python scripts/bench_render.py [--repeat 5] [--quick]
+    .venv/bin/python -m benchmarks.render [--repeat 5] [--quick]
 """
 
 from __future__ import annotations
@@ -53,10 +53,10 @@ from pathlib import Path
 
 import numba
 import numpy as np
-from bench_render_process import BASELINE_COMMIT, whole_process
-from render_baseline import rasterize_serial
 
 import silcount
+from benchmarks.common import best_time
+from benchmarks.render_process import BASELINE_COMMIT, whole_process
 from silcount.cli.render import shared_scene_dir
 from silcount.detectors import DETECTORS, plain_edge_ids
 from silcount.mesh import shapes
@@ -66,6 +66,7 @@ from silcount.render.masks import compare_masks
 from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
 from silcount.render.scene import load_scene
 from silcount.render.stencil import render_stencil
+from tests.oracles.render_baseline import rasterize_serial
 
 PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EESD 2012 Sec. 6: TA, VnV, EESD
     "hsd": ("HSD paper", 75.53),
@@ -110,12 +111,7 @@ def best_frame(scene, method: str, detector: str, repeat: int) -> dict[str, floa
 def best_detection(mesh, light, detector: str, repeat: int) -> float:
     """Best time (ms) of the detector's own loops, uncounted (:func:`plain_edge_ids`), after a warm-up."""
     plain_edge_ids(mesh, light, detector)
-    runs = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        plain_edge_ids(mesh, light, detector)
-        runs.append(time.perf_counter() - t0)
-    return 1000 * min(runs)
+    return 1000 * best_time(lambda: plain_edge_ids(mesh, light, detector), repeat)
 
 
 def scene_file(tmp: Path, name: str, objects: list[dict], eye, target, light) -> Path:
@@ -217,7 +213,7 @@ def resized(scenes: list[tuple[str, Path]], sizes: tuple[int, ...]):
 
 def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs: int) -> None:
     """Section 1d: silcount's frames and llvmpipe's, interleaved run by run; masks compared."""
-    from gl_stencil import GLStencil
+    from tests.oracles.gl_stencil import GLStencil
 
     print(f"\n# The same frames on llvmpipe (OpenGL), best of {runs} interleaved runs, ms")
     print(
