@@ -198,7 +198,7 @@ def overlapping_soup(rng, copies: int) -> np.ndarray:
 
 def test_overlapping_triangles_keep_the_grid_linear():
     # Copies of one triangle each cover every cell of the grid that their box spans: listing each in
-    # every cell made T x cells entries (2.0e9 for 30,000 copies).  The listings stay within 8 per
+    # every cell made T x cells entries (3.7e9 for 30,000 copies).  The listings stay within 8 per
     # triangle, whatever the overlap, and a non-overlapping soup keeps its fine grid.
     tri = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     for copies in (1, 500, 5000):
