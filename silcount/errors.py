@@ -56,3 +56,20 @@ def check_choice(
     """
     if value not in choices:
         raise error(f"{prefix}unknown {what} {value!r}; choose from {', '.join(choices)}")
+
+
+class TooMuchWork(InvalidMesh):
+    """One computation on a mesh would exceed the work limit (``--max-work``, ``$SILCOUNT_MAX_WORK``).
+
+    Raised between chunks of a long compiled loop (:mod:`silcount.mesh.chunks`) once the work done passes the
+    limit; ``what`` names the computation.  The audit reports the other detectors and names this one.
+    """
+
+    exit_code = 4
+
+    def __init__(self, what: str, done: int, limit: int) -> None:
+        self.what, self.done, self.limit = what, done, limit
+        super().__init__(
+            f"{what}: over {limit:,} elementary tests ({done:,} done when stopped); "
+            "set --max-work or $SILCOUNT_MAX_WORK to raise the limit"
+        )

@@ -1,6 +1,7 @@
 """zeros_per_point against every point-plane pair evaluated with numpy."""
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -157,3 +158,44 @@ def test_the_packet_test_counts_the_spread():
     assert not _packet_misses(mid, spread, peak, *args)
     assert _packet_misses(mid, np.zeros(4), peak, *args)
     assert _packet_misses(mid, spread, peak, x + 1e-3, *args[1:])  # far from both: ruled out
+
+
+def test_regrouped_planes_count_as_every_pair_on_a_curved_grid():
+    # Planes of a curved surface (no coplanar runs: regrouped by _plane_order) mixed with coherent
+    # runs of 64 copies (kept as packets), axis planes through a dyadic grid (exact zeros), zero and NaN
+    # planes: the counts equal every pair's, and the order is a permutation keeping the coherent runs.
+    from silcount.detectors.onplane import PACKET, _plane_order
+
+    rng = np.random.default_rng(5)
+    g = np.arange(-4, 5) / 4.0
+    grid = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    u = rng.uniform(0, 2 * np.pi, size=(600, 2))
+    torus = np.stack([(1 + 0.35 * np.cos(u[:, 1])) * np.cos(u[:, 0]), (1 + 0.35 * np.cos(u[:, 1])) * np.sin(u[:, 0]),
+                      0.35 * np.sin(u[:, 1])], axis=1)  # fmt: skip
+    normals = torus - np.stack([np.cos(u[:, 0]), np.sin(u[:, 0]), 0 * u[:, 0]], axis=1)
+    tangent = np.concatenate([normals, -(normals * torus).sum(axis=1, keepdims=True)], axis=1)
+    axis = np.array([[0.0, 0.0, 4.0, -1.0], [2.0, 0.0, 0.0, 1.0]])
+    runs = np.repeat(axis, PACKET, axis=0)
+    planes = np.concatenate([runs, tangent, axis, [[0.0, 0.0, 0.0, 0.0], [np.nan, 1.0, 0.0, 0.0]]])
+    points = np.concatenate([grid, torus, [[np.nan, 0.0, 0.0]]])
+    order = _plane_order(planes)
+    assert np.array_equal(np.sort(order), np.arange(len(planes)))
+    assert np.array_equal(order[: 2 * PACKET], np.arange(2 * PACKET))  # the coherent runs, as they were
+    got = zeros_per_point(points, planes)
+    assert np.array_equal(got, brute_force(points, planes))
+    assert got[: len(grid)].min() >= 1 and got.sum() > 2 * 81 * (PACKET + 1)
+
+
+def test_the_plane_tests_are_held_to_the_work_limit():
+    # Every plane through every point of a flat grid: tests grow with points x planes; past the limit the
+    # walk stops between chunks with TooMuchWork naming the computation, and under it counts as before.
+    from silcount.errors import TooMuchWork
+    from silcount.mesh.chunks import limit_work
+
+    g = np.arange(64) / 8.0
+    pts = np.stack([*np.meshgrid(g, g, indexing="ij"), np.zeros((64, 64))], axis=-1).reshape(-1, 3)
+    planes = np.repeat([[0.0, 0.0, 1.0, 0.0]], 500, axis=0) * np.arange(1, 501)[:, None]
+    with limit_work(10_000), pytest.raises(TooMuchWork, match="flat grid: over 10,000"):
+        zeros_per_point(pts, planes, "flat grid")
+    with limit_work(10**9):
+        assert np.array_equal(zeros_per_point(pts, planes, "flat grid"), np.full(len(pts), 500))

@@ -36,6 +36,11 @@ Decisions, named:
 * **Cycles**: tallies weighted by a cycle profile (``paper``: the EESD
   paper's Mult 4, Add 2, Compare 3, Read 1, Write 2, EESD 2012 Sec. 6); see
   :mod:`silcount.audit.costs`.
+* **Refused runs** (``refused``, present only when some run was): a run
+  whose work passes the limit (:class:`silcount.errors.TooMuchWork`,
+  ``--max-work``) is left out of ``detectors`` and ``per_light`` and named
+  here with its one-line reason; every other run is reported as usual.  The
+  reference is never refused (its work is linear in the mesh).
 * **Dubious input is audited, with warnings**: a light exactly on the plane
   of some faces (ties, not light-facing), a point light inside the mesh
   (generalised winding number above one half), an open, non-manifold,
@@ -52,6 +57,7 @@ import numpy as np
 from silcount.audit.costs import cycle_profile, printed_formula, weighted
 from silcount.counting.arithmetic import KINDS
 from silcount.detectors import Silhouette, detect_many, differences, get, is_reference_run, names, runs
+from silcount.errors import TooMuchWork
 from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_lights
 from silcount.mesh.model import Mesh
 from silcount.mesh.stats import mesh_statistics, mesh_warnings
@@ -274,6 +280,7 @@ def run_audit(
         # every run under all the lights at once (detect_many: identical to detect per light), each light's
         # time its share of the pass; the reference first, always (a requested fast reference run is it)
         batches: dict[str, tuple[list[Silhouette], float]] = {}
+        refused: dict[str, str] = {}
         for key, name, variant in [("", "reference", "intended"), *todo]:
             if key and is_reference_run(name, settings.engine):
                 batches[key] = batches[""]
@@ -281,19 +288,27 @@ def run_audit(
             bar.set_postfix_str(key or "reference", refresh=False)
             engine = "fast" if not key else settings.engine
             t0 = time.perf_counter()
-            batches[key] = (detect_many(mesh, lights, name, variant, engine), (time.perf_counter() - t0) / len(lights))
+            try:
+                got = detect_many(mesh, lights, name, variant, engine)
+            except TooMuchWork as exc:
+                if not key:
+                    raise
+                refused[key] = str(exc)
+            else:
+                batches[key] = (got, (time.perf_counter() - t0) / len(lights))
             bar.update(len(lights))
+        done = [run for run in todo if run[0] not in refused]
         refs = batches[""][0]
         for i, (light, ref) in enumerate(zip(lights, refs, strict=True)):
             info, light_warnings = _light_checks(mesh, light, ref.ties, i)
             warnings += light_warnings
             results = {}
-            for key, name, variant in todo:
+            for key, name, variant in done:
                 res, share = batches[key]
                 results[key] = _one_run(mesh, name, variant, settings, ref, profile, res[i], share)
             per_light.append({"light": info, "detectors": results})
     detectors = {}
-    for key, _, _ in todo:
+    for key, _, _ in done:
         detectors[key] = _aggregate([pl["detectors"][key] for pl in per_light], settings.with_time)
         _with_ratios(detectors[key], profile, len(lights))
     return {
@@ -311,4 +326,4 @@ def run_audit(
         "warnings": warnings,
         "detectors": detectors,
         "per_light": per_light,
-    }
+    } | ({"refused": refused} if refused else {})

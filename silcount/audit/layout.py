@@ -156,6 +156,9 @@ def render_text(audit: dict, markdown: bool = False) -> str:
         for i, l in enumerate(audit["lights"])
     ]
     out += ["", h("Warnings"), ""] + ([f"- {w}" for w in audit["warnings"]] or ["- none"])
+    if audit.get("refused"):
+        out += ["", h("Refused (not in the tables below)"), ""]
+        out += [f"- {k}: {why}" for k, why in audit["refused"].items()]
     scope = "summed over the lights" if n > 1 else "one light"
     for model in ("paper", "true"):
         out += [

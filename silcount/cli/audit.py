@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from silcount.errors import BadArgument
+from silcount.errors import BadArgument, TooMuchWork
 from silcount.options import AUDIT_FORMATS, DEFAULT_LIGHT_COUNT, DEFAULT_SEED, PAPER_HELP
 
 if TYPE_CHECKING:
@@ -87,6 +87,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="SIZE",
         help="refuse meshes estimated to need more (e.g. 2G; default $SILCOUNT_MAX_MEMORY or free RAM)",
+    )
+    parser.add_argument(
+        "--max-work",
+        default=None,
+        metavar="N",
+        help="refuse a detector run whose elementary tests (ray-triangle, plane-point) pass N "
+        "(e.g. 1e12; default $SILCOUNT_MAX_WORK or 1e11; per light); the others are reported",
     )
     parser.add_argument(
         "--weld-tolerance",
@@ -187,40 +194,57 @@ def audit_one(mesh: Mesh, args: argparse.Namespace, settings: AuditSettings, fix
     )
 
 
+def refusals(audits: list[dict]) -> int:
+    """One line on stderr per refused run (the reports name them too); the exit code: 0, or
+    :class:`TooMuchWork`'s when some run was refused."""
+    lines = [
+        f"silcount audit: error: {a['source']}: {k} refused: {why}"
+        for a in audits
+        for k, why in a.get("refused", {}).items()
+    ]
+    for line in lines:
+        print(line, file=sys.stderr)
+    return TooMuchWork.exit_code if lines else 0
+
+
 def run(args: argparse.Namespace) -> int:
     from silcount.atomic import check_writable
     from silcount.audit.costs import cycle_profile
     from silcount.audit.layout import format_audit, render_json, write_atomic
     from silcount.mesh import shapes
+    from silcount.mesh.chunks import limit_work, parse_work
     from silcount.mesh.io import load_mesh, parse_size
 
     settings = settings_from(args)
     fixed = explicit_lights(args)
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
+    max_work = parse_work(args.max_work, "--max-work") if args.max_work else None
     cycle_profile(settings.cycles)  # a bad profile fails before a large mesh is loaded
     if args.out is not None:  # and so does an --out that cannot be written
         check_writable(args.out, folder=args.mesh is None)
-    if args.mesh is not None:
-        if not args.weld_tolerance >= 0.0:
-            raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
-        mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
-        text = format_audit(audit_one(mesh, args, settings, fixed, str(args.mesh)), args.format)
-        if args.out is None:
-            sys.stdout.write(text)
+    with limit_work(max_work):  # the runs' work limit (silcount.mesh.chunks)
+        if args.mesh is not None:
+            if not args.weld_tolerance >= 0.0:
+                raise BadArgument(f"--weld-tolerance must be >= 0, got {args.weld_tolerance}")
+            mesh = load_mesh(args.mesh, max_memory=max_memory, weld_tolerance=args.weld_tolerance)
+            audit = audit_one(mesh, args, settings, fixed, str(args.mesh))
+            text = format_audit(audit, args.format)
+            if args.out is None:
+                sys.stdout.write(text)
+            else:
+                write_atomic(args.out, text)
+                print(f"wrote {args.out}", file=sys.stderr)
+            return refusals([audit])
+        audits = []
+        for name in shapes.BUILTIN:
+            audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
+        if args.out is not None:
+            for name, a in audits:
+                path = args.out / f"{name}.{EXTENSIONS[args.format]}"
+                write_atomic(path, format_audit(a, args.format))
+                print(f"wrote {path}", file=sys.stderr)
+        elif args.format == "json":
+            sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
         else:
-            write_atomic(args.out, text)
-            print(f"wrote {args.out}", file=sys.stderr)
-        return 0
-    audits = []
-    for name in shapes.BUILTIN:
-        audits.append((name, audit_one(shapes.builtin_mesh(name), args, settings, fixed, f"built-in {name}")))
-    if args.out is not None:
-        for name, a in audits:
-            path = args.out / f"{name}.{EXTENSIONS[args.format]}"
-            write_atomic(path, format_audit(a, args.format))
-            print(f"wrote {path}", file=sys.stderr)
-    elif args.format == "json":
-        sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]
-    else:
-        sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
-    return 0
+            sys.stdout.write("\n".join(format_audit(a, args.format) for _, a in audits))
+        return refusals([a for _, a in audits])

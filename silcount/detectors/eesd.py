@@ -231,7 +231,10 @@ def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
         hits = on_threads(lambda j: lines_any_hit(points[j], light_values(lights[j]), tris), range(len(lights)))
     else:
         rays = tracer(mesh)
-        hits = [rays.any_hit(*rays_through(p, light)) for light, p in zip(lights, points, strict=True)]
+        hits = []
+        for light, p in zip(lights, points, strict=True):
+            o, d, t_min, t_max = rays_through(p, light)
+            hits.append(rays.any_hit(o, d, t_min, t_max, what=f"{NAME}: its rays"))
     out = []
     for light, cand, hit in zip(lights, cands, hits, strict=True):
         ids = cand[~hit]
@@ -268,7 +271,9 @@ def _intended_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict[str, int], d
 
 def _fast_literal(mesh: Mesh, light: Light):
     E, F = mesh.n_edges, mesh.n_faces
-    zeros = zeros_per_point(outward_points_and_rays(mesh, light)[0], face_planes(mesh))
+    zeros = zeros_per_point(
+        outward_points_and_rays(mesh, light)[0], face_planes(mesh), f"{NAME}:literal: its plane tests"
+    )
     adds_per_edge = F - zeros
     ids = np.flatnonzero(adds_per_edge)  # S holds edge e adds_per_edge[e] times
     adds = int(adds_per_edge.sum())

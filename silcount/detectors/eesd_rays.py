@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit, prange
 
 from silcount.detectors.eesd_counted import EPS
+from silcount.mesh.chunks import run_chunks
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 from silcount.mesh.raytrace import RayTracer, moller_trumbore
@@ -104,16 +105,17 @@ def _outward(V, edges, apex, which, L, directional, eps):  # pragma: no cover - 
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _own_blocked(V, edges, apex, Ls, directional, eps, start, order, side_face, tri_start, tri_idx):  # pragma: no cover
+def _own_blocked(
+    lo, hi, out, V, edges, apex, Ls, directional, eps, start, order, side_face, tri_start, tri_idx
+):  # pragma: no cover
     """(E, n) bool: does light ``j``'s ray of edge ``e`` meet a fan triangle of one of the edge's faces?
     Edge-major, so an edge's triangles are read once for every light (then from cache); the ray as
     :func:`outward_points_and_rays` makes it, the test the tracer's.  An edge's faces are tried last side
     first: ``P`` is pushed away from the first face ``f1``, so a blocked ray (most of them) meets the other
     face, and testing it first usually ends the search after one triangle (the answer, any hit, does not
-    depend on the order)."""
-    E, n = edges.shape[0], Ls.shape[0]
-    out = np.zeros((E, n), dtype=np.bool_)
-    for e in prange(E):
+    depend on the order).  Edges ``lo .. hi - 1`` into ``out`` (all False there); returns 0."""
+    n = Ls.shape[0]
+    for e in prange(lo, hi):
         a, b, c = edges[e, 0], edges[e, 1], apex[e]
         for j in range(n):
             L = Ls[j]
@@ -132,7 +134,7 @@ def _own_blocked(V, edges, apex, Ls, directional, eps, start, order, side_face, 
                         break
                 if out[e, j]:
                     break
-    return out
+    return 0
 
 
 def outward_points_and_rays(mesh: Mesh, light: Light):
@@ -173,8 +175,11 @@ def own_blocked(mesh: Mesh, lights: list[Light]) -> np.ndarray:
     Ls = np.ascontiguousarray([light_values(light) for light in lights], dtype=np.float64)
     data = ray_data(mesh)
     start, order = mesh.edge_sides
-    return _own_blocked(mesh.vertices, mesh.edges, data["apex"], Ls, kinds.pop(), EPS, start, order,
-                        mesh.side_face, data["tri_start"], data["tri_idx"])  # fmt: skip
+    out = np.zeros((mesh.n_edges, len(Ls)), dtype=np.bool_)
+    args = (mesh.vertices, mesh.edges, data["apex"], Ls, kinds.pop(), EPS, start, order, mesh.side_face,
+            data["tri_start"], data["tri_idx"])  # fmt: skip
+    run_chunks(mesh.n_edges, lambda lo, hi: _own_blocked(lo, hi, out, *args))  # Ctrl-C between chunks
+    return out
 
 
 def face_planes(mesh: Mesh) -> np.ndarray:

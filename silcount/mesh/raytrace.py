@@ -23,9 +23,17 @@ rule closes the exact cases, it does not make the test watertight.
 
 The grid: cells of equal size, about two per triangle, over the
 triangles' bounding box; each triangle is listed in every cell its (slightly
-padded) bounding box overlaps.  Traversal is the 3D-DDA of Amanatides & Woo
-over the ray's clipped ``t`` range; ``first_hit`` stops once the best hit
-lies before the current cell's exit.
+padded) bounding box overlaps.  Those listings are bounded by
+:data:`_ENTRIES_PER_TRIANGLE` per triangle: where triangles overlap (stacked
+copies of one triangle list each in every cell, T x cells entries) the cells
+are made coarser, halving the cells along each axis until the listings fit
+(one cell lists each triangle once).  The grid decides only which triangles a
+ray is tested against, never the answer: a coarser grid tests more of them.
+Traversal is the 3D-DDA of Amanatides & Woo over the ray's clipped ``t``
+range; ``first_hit`` stops once the best hit lies before the current cell's
+exit.  Rays are traced in chunks (:func:`silcount.mesh.chunks.run_chunks`,
+Ctrl-C between chunks) and their ray-triangle tests counted against the work
+limit when the caller names the computation.
 """
 
 from __future__ import annotations
@@ -33,7 +41,10 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from silcount.mesh.chunks import Meter, run_chunks
+
 _CELLS_PER_TRIANGLE = 2.0
+_ENTRIES_PER_TRIANGLE = 8  # the grid's listings at most (about 2.2 on closed meshes)
 
 
 @nb.njit(cache=True, error_model="numpy", inline="always")
@@ -81,6 +92,15 @@ def _cell_ranges(lo, hi, origin, size, dims, pad):
 
 
 @nb.njit(cache=True)
+def _entries(rng):
+    """How many (cell, triangle) listings the cell ranges ``rng`` make."""
+    total = 0
+    for i in range(rng.shape[0]):
+        total += (rng[i, 1] - rng[i, 0] + 1) * (rng[i, 3] - rng[i, 2] + 1) * (rng[i, 5] - rng[i, 4] + 1)
+    return total
+
+
+@nb.njit(cache=True)
 def _fill_grid(rng, dims):
     n_cells = dims[0] * dims[1] * dims[2]
     count = np.zeros(n_cells + 1, dtype=np.int64)
@@ -104,26 +124,27 @@ def _fill_grid(rng, dims):
 
 @nb.njit(cache=True, error_model="numpy")
 def _trace_one(o, d, t_min, t_max, ignore, any_mode, tris, start, items, origin, size, dims):
-    """Walk the grid for one ray; returns (t, triangle) of the nearest hit, or of any hit in any_mode."""
-    best_t, best_i = np.inf, -1
+    """Walk the grid for one ray; returns (t, triangle) of the nearest hit, or of any hit in any_mode, and the
+    ray-triangle tests made."""
+    best_t, best_i, tests = np.inf, -1, 0
     for k in range(3):
         if not (np.isfinite(o[k]) and np.isfinite(d[k])):
-            return best_t, best_i
+            return best_t, best_i, tests
     if not (t_min < t_max):
-        return best_t, best_i
+        return best_t, best_i, tests
     t0, t1 = t_min, t_max
     for k in range(3):
         lo_k, hi_k = origin[k], origin[k] + size[k] * dims[k]
         if d[k] == 0.0:
             if o[k] < lo_k or o[k] > hi_k:
-                return best_t, best_i
+                return best_t, best_i, tests
         else:
             ta, tb = (lo_k - o[k]) / d[k], (hi_k - o[k]) / d[k]
             if ta > tb:
                 ta, tb = tb, ta
             t0, t1 = max(t0, ta), min(t1, tb)
     if not (t0 <= t1) or not np.isfinite(t0):
-        return best_t, best_i
+        return best_t, best_i, tests
     cell = np.empty(3, dtype=np.int64)
     step = np.empty(3, dtype=np.int64)
     t_next = np.empty(3)
@@ -152,10 +173,11 @@ def _trace_one(o, d, t_min, t_max, ignore, any_mode, tris, start, items, origin,
                 continue
             tr = tris[i]
             hit, t = _meets(o, d, tr, t_min, t_max)
+            tests += 1
             if hit and (t < best_t or (t == best_t and i < best_i)):
                 best_t, best_i = t, i
                 if any_mode:
-                    return best_t, best_i
+                    return best_t, best_i, tests
         k = 0
         if t_next[1] < t_next[k]:
             k = 1
@@ -163,25 +185,26 @@ def _trace_one(o, d, t_min, t_max, ignore, any_mode, tris, start, items, origin,
             k = 2
         exit_t = t_next[k]
         if best_i >= 0 and best_t < exit_t:
-            return best_t, best_i
+            return best_t, best_i, tests
         if exit_t > t1:
-            return best_t, best_i
+            return best_t, best_i, tests
         cell[k] += step[k]
         if cell[k] < 0 or cell[k] >= dims[k]:
-            return best_t, best_i
+            return best_t, best_i, tests
         t_next[k] += t_delta[k]
 
 
 @nb.njit(cache=True, parallel=True, error_model="numpy")
-def _trace(origins, directions, t_min, t_max, ignore, any_mode, tris, start, items, origin, size, dims):
-    R = origins.shape[0]
-    out_t = np.empty(R)
-    out_i = np.empty(R, dtype=np.int64)
-    for r in nb.prange(R):
-        out_t[r], out_i[r] = _trace_one(
+def _trace(lo, hi, origins, directions, t_min, t_max, ignore, any_mode, tris, start, items, origin, size, dims,
+           out_t, out_i):  # fmt: skip
+    """Rays ``lo .. hi - 1`` into ``out_t``, ``out_i``; returns their ray-triangle tests."""
+    tests = 0
+    for r in nb.prange(lo, hi):
+        out_t[r], out_i[r], n = _trace_one(
             origins[r], directions[r], t_min[r], t_max[r], ignore[r], any_mode, tris, start, items, origin, size, dims
         )
-    return out_t, out_i
+        tests += n
+    return tests
 
 
 @nb.njit(cache=True, parallel=True, error_model="numpy")
@@ -220,47 +243,49 @@ class RayTracer:
         cell = (np.prod(ext) / (_CELLS_PER_TRIANGLE * T)) ** (1.0 / 3.0)
         dims = np.clip(np.ceil(ext / cell), 1, 1024).astype(np.int64)
         size = ext / dims
-        pad = 1e-7 * float(size.min())
-        rng = _cell_ranges(lo, hi, b0, size, dims, pad)
+        while True:
+            pad = 1e-7 * float(size.min())
+            rng = _cell_ranges(lo, hi, b0, size, dims, pad)
+            if _entries(rng) <= _ENTRIES_PER_TRIANGLE * T or dims.max() == 1:
+                break
+            dims = (dims + 1) // 2  # overlapping triangles: coarser cells (module docstring)
+            size = ext / dims
         self._origin, self._size, self._dims = b0, size, dims
         self._start, self._items = _fill_grid(rng, dims)
 
-    def _run(self, origins, directions, t_min, t_max, ignore, any_mode: bool):
+    def _run(self, origins, directions, t_min, t_max, ignore, any_mode: bool, what: str | None):
         o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3))
         d = np.ascontiguousarray(np.asarray(directions, dtype=np.float64).reshape(-1, 3))
         R = o.shape[0]
         if d.shape[0] != R:
             raise ValueError(f"{R} origins but {d.shape[0]} directions")
         ign = _per_ray(-1 if ignore is None else ignore, R, np.int64)
-        return _trace(
-            o,
-            d,
-            _per_ray(t_min, R, np.float64),
-            _per_ray(t_max, R, np.float64),
-            ign,
-            any_mode,
-            self.triangles,
-            self._start,
-            self._items,
-            self._origin,
-            self._size,
-            self._dims,
+        lo_t, hi_t = _per_ray(t_min, R, np.float64), _per_ray(t_max, R, np.float64)
+        out_t, out_i = np.empty(R), np.empty(R, dtype=np.int64)
+        grid = (self.triangles, self._start, self._items, self._origin, self._size, self._dims)
+        run_chunks(
+            R,
+            lambda a, b: _trace(a, b, o, d, lo_t, hi_t, ign, any_mode, *grid, out_t, out_i),
+            None if what is None else Meter(what),
         )
+        return out_t, out_i
 
-    def first_hit(self, origins, directions, t_min=0.0, t_max=np.inf) -> tuple[np.ndarray, np.ndarray]:
+    def first_hit(self, origins, directions, t_min=0.0, t_max=np.inf, what=None) -> tuple[np.ndarray, np.ndarray]:
         """(R,) hit distance (np.inf where none) and (R,) triangle index (-1 where none).
 
         ``t`` is in units of the given (not necessarily unit) direction; hits
         count for ``t_min < t < t_max``.  Equal distances go to the lower index.
+        ``what``: the computation's name, to hold its ray-triangle tests to the work limit
+        (:class:`silcount.mesh.chunks.Meter`; None: not held).
         """
-        return self._run(origins, directions, t_min, t_max, None, False)
+        return self._run(origins, directions, t_min, t_max, None, False, what)
 
-    def any_hit(self, origins, directions, t_min=0.0, t_max=np.inf, ignore=None) -> np.ndarray:
+    def any_hit(self, origins, directions, t_min=0.0, t_max=np.inf, ignore=None, what=None) -> np.ndarray:
         """(R,) bool: does the ray meet any triangle with t in (t_min, t_max)?
 
-        ``ignore``: optional (R,) triangle index to skip per ray (-1 none).
+        ``ignore``: optional (R,) triangle index to skip per ray (-1 none); ``what`` as in :meth:`first_hit`.
         """
-        return self._run(origins, directions, t_min, t_max, ignore, True)[1] >= 0
+        return self._run(origins, directions, t_min, t_max, ignore, True, what)[1] >= 0
 
     def hits_triangle(self, origins, directions, which, t_min=0.0, t_max=np.inf) -> np.ndarray:
         """(R,) bool: does ray r meet triangle ``which[r]`` (the same test, no grid)?"""
