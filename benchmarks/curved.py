@@ -4,7 +4,7 @@
 
 ``benchmarks.detectors``' audit section measures the subdivided bunny, where
 every 64 consecutive faces lie in one plane: the best case of EESD literal's
-plane walk (:mod:`silcount.detectors.onplane`).  Here the same audit
+plane walk (:mod:`silcount.detectors.eesd.onplane`).  Here the same audit
 (``run_audit`` with ``--variant both``, one light, ``benchmarks.detectors.audit_figures``)
 runs on a torus (``shapes.torus``, 2 x n x n/2 faces) or an icosphere
 (20 x 4^k faces) of about ``--faces`` faces, in a fresh process per tree:

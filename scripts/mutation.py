@@ -38,9 +38,9 @@ SELECTION: dict[str, str] = {
     "silcount/detectors/ta.py": f"tests/test_ta.py {COMMON}",
     "silcount/detectors/vnv.py": f"tests/test_vnv.py {COMMON}",
     "silcount/detectors/hsd.py": f"tests/test_hsd.py tests/test_coplanar_counted.py {COMMON}",
-    "silcount/detectors/eesd.py": f"tests/test_eesd.py {COMMON}",
-    "silcount/detectors/eesd_counted.py": f"tests/test_eesd.py {COMMON}",
-    "silcount/detectors/onplane.py": "tests/test_onplane.py",
+    "silcount/detectors/eesd/detector.py": f"tests/test_eesd.py {COMMON}",
+    "silcount/detectors/eesd/counted.py": f"tests/test_eesd.py {COMMON}",
+    "silcount/detectors/eesd/onplane.py": "tests/test_onplane.py",
     "silcount/papers/formulas.py": "tests/test_formulas.py tests/test_claims.py tests/test_tables.py",
 }
 DESELECT = "not torus and not soup and not match_the_committed"

@@ -271,7 +271,7 @@ def clear_of_ties(mesh: Mesh, light, angle: float = 1e-5) -> bool:
 
     EESD's offset point is ``1e-6`` edge lengths from its edge, so a face seen
     within about that angle of edge-on can let its ray pass (documented in
-    ``detectors/eesd.py``); properties of EESD's edges hold only clear of that.
+    ``detectors/eesd/detector.py``); properties of EESD's edges hold only clear of that.
     """
     n = mesh.face_normals
     d = np.broadcast_to(np.asarray(light.direction), n.shape) if light.is_directional else light.position - mesh.face_p0

@@ -188,7 +188,7 @@ def test_fast_casts_enough_rays_on_a_real_mesh(shared_mesh):
     # The fast engine settles most edges by their own faces and casts only the rest through the grid.
     # Check it against rays tested against every fan triangle (the naive loop's decisions, by the
     # same compiled test), on the cow, for the reference silhouette edges and 500 random others.
-    from silcount.detectors.eesd_rays import outward_points_and_rays, ray_data, tracer
+    from silcount.detectors.eesd.rays import outward_points_and_rays, ray_data, tracer
 
     mesh = shared_mesh("cow.obj")
     rng = np.random.default_rng(3)
@@ -218,7 +218,7 @@ def test_own_face_pass_is_the_tracers_test_on_each_edges_own_faces(shared_mesh, 
     # faces.  Check it, edge by edge, against RayTracer.hits_triangle (the tracer's own test, no grid) on the
     # edge's faces' fan triangles, listed here from the mesh's sides; and the outward
     # points of a subset against outward_points_and_rays, bit for bit.
-    from silcount.detectors.eesd_rays import outward_points_and_rays, outward_points_of, own_blocked, ray_data, tracer
+    from silcount.detectors.eesd.rays import outward_points_and_rays, outward_points_of, own_blocked, ray_data, tracer
 
     mesh = shared_mesh(name)
     rng = np.random.default_rng(5)
@@ -256,8 +256,8 @@ def test_own_face_pass_is_the_tracers_test_on_each_edges_own_faces(shared_mesh, 
 def _extend_by_routine(mesh, light):
     """P of every edge by the naive engine's counted routine, on plain numbers."""
     from silcount.counting.arithmetic import Num, OpCounter
-    from silcount.detectors.eesd_counted import counted_outward_point
-    from silcount.detectors.eesd_rays import ray_data
+    from silcount.detectors.eesd.counted import counted_outward_point
+    from silcount.detectors.eesd.rays import ray_data
 
     counter = OpCounter()
     directional = isinstance(light, silcount.DirectionalLight)
@@ -279,8 +279,8 @@ def test_extend_step_geometry(light):
     # EESD paper Sec. 3.3: each edge is pushed "outward" by a small amount. P = m + w * scale, with m the
     # midpoint, w = d x e (d: from the light to m, or the light's direction), |P - m| = EPS |e|, on the side
     # of the edge away from its first face's far corner c.  Checked from the geometry, not the code.
-    from silcount.detectors.eesd_counted import EPS
-    from silcount.detectors.eesd_rays import outward_points_and_rays, ray_data
+    from silcount.detectors.eesd.counted import EPS
+    from silcount.detectors.eesd.rays import outward_points_and_rays, ray_data
 
     mesh = shapes.torus(n_major=12, n_minor=8)
     P = outward_points_and_rays(mesh, light)[0]
@@ -300,7 +300,7 @@ def test_extend_step_geometry(light):
 def test_extend_step_with_the_light_in_the_faces_plane():
     # A flat grid lit from a point in its own plane: the far corner lies in the plane of the edge and the
     # light, side = 0 exactly for every edge, and the routine's tie rule (sgn = +1) decides the direction.
-    from silcount.detectors.eesd_rays import outward_points_and_rays
+    from silcount.detectors.eesd.rays import outward_points_and_rays
 
     g = np.arange(4.0)
     x, y = np.meshgrid(g, g)
@@ -367,7 +367,7 @@ def test_triangle_hit_ties_in_both_engines():
     # One ulp outside, they miss; a ray starting on the triangle has t = 0 = t_min and misses.  The
     # naive engine's counted routine and the fast engine's compiled tracer must both say so.
     from silcount.counting.arithmetic import Num, OpCounter
-    from silcount.detectors.eesd_counted import counted_triangle_hit
+    from silcount.detectors.eesd.counted import counted_triangle_hit
     from silcount.mesh.raytrace import RayTracer
 
     tri = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from strategies import examples
 
-from silcount.detectors.onplane import _packet_bounds, _packet_misses, zeros_per_point
+from silcount.detectors.eesd.onplane import _packet_bounds, _packet_misses, zeros_per_point
 
 
 def brute_force(points, planes):
@@ -164,7 +164,7 @@ def test_regrouped_planes_count_as_every_pair_on_a_curved_grid():
     # Planes of a curved surface (no coplanar runs: regrouped by _plane_order) mixed with coherent
     # runs of 64 copies (kept as packets), axis planes through a dyadic grid (exact zeros), zero and NaN
     # planes: the counts equal every pair's, and the order is a permutation keeping the coherent runs.
-    from silcount.detectors.onplane import PACKET, _plane_order
+    from silcount.detectors.eesd.onplane import PACKET, _plane_order
 
     rng = np.random.default_rng(5)
     g = np.arange(-4, 5) / 4.0

@@ -6,13 +6,13 @@ The built-ins (:mod:`.builtin`) are the papers' four (TA, VnV, HSD, EESD), silco
 (``docs/extending.md``).  Nothing here is read before first use: :func:`names` and every look-up fill the
 registry then.
 
-The detectors: ``reference.py``, ``ta.py``, ``vnv.py``, ``hsd.py``, ``eesd.py`` and, in ``hierarchy/``,
-``gaussmap`` and ``cones`` with the bounded plane tree they share.  Beside them: ``spec.py`` (the record),
+The detectors: ``reference.py``, ``ta.py``, ``vnv.py``, ``hsd.py``; in ``eesd/``, EESD with its rays, counted
+routines and point-on-plane search; in ``hierarchy/``, ``gaussmap`` and ``cones`` with the bounded plane tree
+they share.  Beside them: ``spec.py`` (the record),
 ``registry.py`` (the registry), ``builtin.py`` (the built-ins' specs), ``result.py`` (the result type,
 :class:`Silhouette`), ``base.py`` (counted visibility and assembling the result), ``adjacency.py``
-(light-facing flags and the reference rule, shared by all), ``edge_array.py`` (TA's and HSD's array S),
-``onplane.py`` (EESD literal's point-on-plane search), ``eesd_rays.py`` (EESD's outward points and rays)
-and ``eesd_counted.py`` (EESD's counted routines).  :func:`runs` names each run of a sweep over
+(light-facing flags and the reference rule, shared by all) and ``edge_array.py`` (TA's and HSD's array
+S).  :func:`runs` names each run of a sweep over
 detectors and variants.
 """
 
@@ -106,7 +106,7 @@ def detect_many(
     ``reference`` packs 64 lights' facing flags into one word per face and finds every light's silhouette
     in one XOR pass over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`); EESD tests every
     light's rays against their edges' own faces in one pass over the edges
-    (:func:`silcount.detectors.eesd_rays.own_blocked`).  The others, and every ``naive`` engine, run per
+    (:func:`silcount.detectors.eesd.rays.own_blocked`).  The others, and every ``naive`` engine, run per
     light.  ``tests/test_detect_many.py`` checks every field against :func:`detect`.
     """
     spec = _check(name, variant, engine)

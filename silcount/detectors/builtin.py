@@ -17,7 +17,8 @@ through :func:`.registry.register_detector` like any plug-in.  Imported on the r
 
 from __future__ import annotations
 
-from silcount.detectors import eesd, hsd, reference, ta, vnv
+from silcount.detectors import hsd, reference, ta, vnv
+from silcount.detectors.eesd import detector as eesd
 from silcount.detectors.hierarchy import cones, gaussmap
 from silcount.detectors.spec import DetectorSpec
 

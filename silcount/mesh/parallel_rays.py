@@ -126,7 +126,7 @@ def lines_any_hit(origins, direction, triangles, done=None) -> np.ndarray:
     triangles whose box holds the point are tested with :func:`moller_trumbore` for ``t`` in
     ``(-inf, inf)``, as :meth:`RayTracer.any_hit` tests the triangles along the line.  The grid is built
     per call, ``O(T)``; a line's query is one cell instead of a walk across the 3-D grid.  One thread, the
-    GIL released: callers run several lights side by side (:func:`silcount.detectors.eesd.detect_many`).
+    GIL released: callers run several lights side by side (:func:`silcount.detectors.eesd.detector.detect_many`).
     """
     o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3))
     d = np.ascontiguousarray(np.asarray(direction, dtype=np.float64).reshape(3))

@@ -92,7 +92,7 @@ def _kernel_ray_plane(c):
 
 
 def _kernel_ray_triangle(c):
-    from silcount.detectors.eesd_counted import counted_triangle_hit
+    from silcount.detectors.eesd.counted import counted_triangle_hit
 
     o, d = _vec(c, 0.2, 0.2, 5), _vec(c, 0, 0, -1)
     counted_triangle_hit(o, d, _vec(c, 0, 0, 0), _vec(c, 1, 0, 0), _vec(c, 0, 1, 0), 0.0, float("inf"))

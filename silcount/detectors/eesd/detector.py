@@ -85,7 +85,7 @@ routine is branch-free (all values computed, then a fixed number of
 compares), so its cost is a constant that the ``fast`` engine charges per run;
 square roots count as kind ``sqrt``, divisions as ``div``.
 
-The counted routines (``naive`` arithmetic, fixed costs) are in :mod:`.eesd_counted`.
+The counted routines (``naive`` arithmetic, fixed costs) are in :mod:`.counted`.
 
 Engines
 -------
@@ -93,7 +93,7 @@ Engines
 same points compiled in the same order of operations and casts only the rays
 that matter: a ray that meets one of its own edge's faces (the same
 Moller-Trumbore test, bit for bit, on the edge's faces' fan triangles, the
-other face first: :func:`.eesd_rays.own_blocked`, every light of a
+other face first: :func:`.rays.own_blocked`, every light of a
 :func:`detect_many` batch in one pass over the edges) is blocked in
 the full loop too, so only the rays that miss their own faces are cast against
 every triangle: on a closed mesh these are exactly the edges whose faces lie
@@ -106,7 +106,7 @@ them, built per light (:func:`silcount.mesh.parallel_rays.lines_any_hit`): the
 same test on the triangles of one cell.
 
 ``literal``'s exact-zero plane tests are found by
-:func:`silcount.detectors.onplane.zeros_per_point` (a box tree over the ``P``
+:func:`silcount.detectors.eesd.onplane.zeros_per_point` (a box tree over the ``P``
 points that the planes walk in packets, in parallel, pruning soundly), which
 tests only the points whose boxes the plane crosses: O(F sqrt(E)) rather than O(E F), about 10 s
 on the 1M-face subdivided bunny (2 cores) against an estimated 40 min for all pairs.
@@ -119,7 +119,7 @@ import numpy as np
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
 from silcount.detectors.adjacency import shared_facing_flags
 from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, on_threads, unique_ids
-from silcount.detectors.eesd_counted import (
+from silcount.detectors.eesd.counted import (
     ADD_COST,
     CHECK_COST,
     EPS,
@@ -133,7 +133,8 @@ from silcount.detectors.eesd_counted import (
     counted_triangle_hit,
     routine_cost,
 )
-from silcount.detectors.eesd_rays import (
+from silcount.detectors.eesd.onplane import zeros_per_point
+from silcount.detectors.eesd.rays import (
     face_planes,
     fan_triangles,
     light_values,
@@ -145,7 +146,6 @@ from silcount.detectors.eesd_rays import (
     rays_through,
     tracer,
 )
-from silcount.detectors.onplane import zeros_per_point
 from silcount.detectors.result import Silhouette
 from silcount.detectors.spec import DetectorSpec
 from silcount.mesh.lights import DirectionalLight, Light
@@ -311,7 +311,7 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
 
 def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
     """:func:`detect` (``fast``) for each light: ``intended``'s own-face test for every light of a kind in
-    one pass over the edges (:func:`.eesd_rays.own_blocked`), the same answers and tallies."""
+    one pass over the edges (:func:`.rays.own_blocked`), the same answers and tallies."""
     if variant == "literal":
         return [detect(mesh, light, variant) for light in lights]
     out: list[Silhouette | None] = [None] * len(lights)

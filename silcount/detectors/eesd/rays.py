@@ -4,7 +4,7 @@ Every edge ``v1 v2`` is pushed outward from its first face by ``EPS`` edge
 lengths (``extend``) and a ray is cast from there towards the light
 (``ray``); the edge is a silhouette edge iff the ray meets no face.  This
 module computes those points and rays compiled, in the counted routines'
-order of operations (:mod:`.eesd_counted`), keeps the per-mesh arrays the
+order of operations (:mod:`.counted`), keeps the per-mesh arrays the
 engines share (each edge's far corner, the fan triangles, the ray tracer,
 each edge's own fan triangles), the face planes of the ``literal`` reading,
 and :func:`plain_edge_ids`: the printed double loop compiled and uncounted, for
@@ -18,7 +18,7 @@ import weakref
 import numpy as np
 from numba import njit, prange
 
-from silcount.detectors.eesd_counted import EPS
+from silcount.detectors.eesd.counted import EPS
 from silcount.mesh.chunks import run_chunks
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -72,7 +72,7 @@ def light_values(light: Light) -> np.ndarray:
 
 @njit(cache=True, error_model="numpy", inline="always")  # an end-on edge (w = 0): inf or NaN, as numpy's
 def _outward_point(V, a, b, c, L, directional, eps):  # pragma: no cover - compiled
-    """``P`` of edge ``a b`` with far corner ``c``: :func:`.eesd_counted.counted_outward_point`, operation
+    """``P`` of edge ``a b`` with far corner ``c``: :func:`.counted.counted_outward_point`, operation
     for operation."""
     m0 = (V[a, 0] + V[b, 0]) * 0.5
     m1 = (V[a, 1] + V[b, 1]) * 0.5
