@@ -199,7 +199,7 @@ def test_every_command_creates_the_missing_folders_of_its_output(tmp_path, monke
     monkeypatch.setattr(report_cmd, "PARTS", ())
     monkeypatch.setattr(figures_cmd, "PARTS", ())
     monkeypatch.setattr(paper_figures, "PARTS", {"table": lambda d: [write_text(d / "t.txt", "t")]})
-    monkeypatch.setattr(paper_tables, "tables_frame", lambda: None)
+    monkeypatch.setattr(paper_tables, "tables_frame", lambda papers=None: None)
     monkeypatch.setattr(paper_tables, "RENDER", {f: (lambda df: "t\n") for f in paper_tables.FORMATS})
     written = {  # the command's --out below tmp_path/new, a file it then writes there
         "audit": ("a.json", "a.json"),

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import CancelledError
@@ -141,9 +142,11 @@ def _local(
     items: list[Item], todo: list[int], settings: Settings, scheduler: str, workers: int, finish: Callable
 ) -> None:
     # the processes start before Dask's import (0.3 s of the client's time), so that their own start overlaps it
-    pool = process_pool(min(workers, len(todo))) if scheduler == "processes" else None  # threads: Dask's own
+    pool = None
     try:
-        _compute(items, todo, settings, scheduler, workers, finish, pool)
+        with _ctrl_c_remembered() as heard:
+            pool = process_pool(min(workers, len(todo))) if scheduler == "processes" else None  # threads: Dask's
+            _compute(items, todo, settings, scheduler, workers, finish, pool, heard)
     except KeyboardInterrupt:
         if pool is not None:
             stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
@@ -154,12 +157,22 @@ def _local(
 
 
 def _compute(
-    items: list[Item], todo: list[int], settings: Settings, scheduler: str, workers: int, finish: Callable, pool
+    items: list[Item],
+    todo: list[int],
+    settings: Settings,
+    scheduler: str,
+    workers: int,
+    finish: Callable,
+    pool,
+    heard: Callable[[], None],
 ) -> None:
-    """``todo`` on Dask's local ``scheduler`` (on ``pool`` for ``processes``), each result to ``finish``."""
+    """``todo`` on Dask's local ``scheduler`` (on ``pool`` for ``processes``), each result to ``finish``;
+    ``heard()`` raises a Ctrl-C that Python swallowed (:func:`_ctrl_c_remembered`)."""
     import dask
     from dask import multiprocessing, threaded
     from dask.callbacks import Callback
+
+    heard()  # a Ctrl-C during the import can land in an import lock's callback, where Python ignores it
 
     # ``todo`` is largest first; Dask starts independent tasks in descending name order
     names = {f"silcount-corpus-{len(todo) - rank:06d}": i for rank, i in enumerate(todo)}
@@ -167,6 +180,7 @@ def _compute(
 
     class Collect(Callback):
         def _posttask(self, key, result, dsk, state, id):  # noqa: A002 - dask's signature
+            heard()
             if key in names:
                 finish(names[key], result)
 
@@ -232,6 +246,44 @@ def _ctrl_c_held() -> Iterator[None]:
         signal.signal(signal.SIGINT, handler if handler is not None else signal.default_int_handler)
     if heard:
         raise KeyboardInterrupt
+
+
+@contextmanager
+def _ctrl_c_remembered() -> Iterator[Callable[[], None]]:
+    """Ctrl-C raises ``KeyboardInterrupt`` as ever, and is remembered: the check it yields raises it again.
+
+    Python raises the interrupt in whatever bytecode the main thread runs; when that is a callback called
+    from C (an import lock's weakref callback while Dask is imported), it prints "Exception ignored" and
+    drops it, and the sweep ran on as if Ctrl-C had never come.  Here such a drop prints nothing (the
+    unraisable hook passes over a ``KeyboardInterrupt``, every other report goes to the hook as before), and
+    the sweep's checks (after Dask's import, after each unit) raise it.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: None  # only the main thread may set handlers
+        return
+    heard: list[int] = []
+
+    def on_sigint(signum, frame):
+        heard.append(signum)
+        raise KeyboardInterrupt
+
+    def check() -> None:
+        if heard:
+            raise KeyboardInterrupt
+
+    hook = sys.unraisablehook
+
+    def unraisable(report) -> None:
+        if not isinstance(report.exc_value, KeyboardInterrupt):
+            hook(report)
+
+    handler = signal.signal(signal.SIGINT, on_sigint)
+    sys.unraisablehook = unraisable
+    try:
+        yield check
+    finally:
+        sys.unraisablehook = hook
+        signal.signal(signal.SIGINT, handler if handler is not None else signal.default_int_handler)
 
 
 def stop_workers(pool) -> None:
