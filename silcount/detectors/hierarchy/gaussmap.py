@@ -42,13 +42,8 @@ from numba import njit, prange
 from silcount.counting.arithmetic import Memory, OpCounter
 from silcount.detectors.hierarchy.morton import counted_octahedral, interleave2, octahedral, plane_sum
 from silcount.detectors.hierarchy.naive import read32
-from silcount.detectors.hierarchy.query import detect as detect_with
-from silcount.detectors.hierarchy.query import plain_query, tree_for
-from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, KeyScheme
-from silcount.detectors.result import Silhouette
-from silcount.detectors.spec import DetectorSpec
-from silcount.mesh.lights import Light
-from silcount.mesh.model import Mesh
+from silcount.detectors.hierarchy.query import hierarchy_spec
+from silcount.detectors.hierarchy.tree import KeyScheme
 
 NAME = "gaussmap"  # what it declares of itself: SPEC, at the end
 PAPER_MODEL = "silcount-gaussmap"
@@ -96,40 +91,5 @@ SCHEME = KeyScheme(
 )
 
 
-def detect(
-    mesh: Mesh,
-    light: Light,
-    variant: str = "intended",
-    engine: str = "fast",
-    leaf_size: int = LEAF_SIZE,
-    fanout: int = FANOUT,
-) -> Silhouette:
-    """The Gauss-map hierarchy's silhouette: exactly the reference edge set.  ``variant``: there is one."""
-    return detect_with(mesh, light, NAME, PAPER_MODEL, SCHEME, variant, engine, leaf_size, fanout)
-
-
-def plain_setup(mesh: Mesh) -> None:
-    """Build the default tree once per mesh (cached with it, the one :func:`detect` uses), outside any timing."""
-    tree_for(mesh, SCHEME)
-
-
-def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
-    """The per-light query uncounted but for its step counters, on the cached tree, one numba thread:
-    :func:`.query.plain_query`; ascending edge ids."""
-    return plain_query(mesh, SCHEME, light)
-
-
-SPEC = DetectorSpec(
-    name=NAME,
-    label="Gauss map",
-    detect=detect,
-    role="literature",
-    paper_model=PAPER_MODEL,
-    variants=("intended",),
-    engines=("fast", "naive"),
-    visited_step="edge_test",
-    plain_edge_ids=plain_edge_ids,
-    plain_setup=plain_setup,
-    growth_variant="intended",
-    style=("#7b4ea3", "^"),
-)
+SPEC = hierarchy_spec(NAME, "Gauss map", PAPER_MODEL, SCHEME, ("#7b4ea3", "^"))
+detect = SPEC.detect

@@ -24,6 +24,7 @@ from silcount.detectors.hierarchy.tree import query_cost as _query_cost
 from silcount.detectors.hierarchy.walk import N_STATS, TIES, query
 from silcount.detectors.reference import fast_tally as reference_tally
 from silcount.detectors.result import Silhouette
+from silcount.detectors.spec import DetectorSpec
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
@@ -133,3 +134,44 @@ def tree_for(mesh: Mesh, scheme: KeyScheme, leaf_size: int = LEAF_SIZE, fanout: 
 
 
 __all__ = ["detect", "query_fast", "tree_for", "plain_query"]
+
+
+def hierarchy_spec(name: str, label: str, paper_model: str, scheme: KeyScheme, style: tuple[str, str]) -> DetectorSpec:
+    """The spec of the detector ``name`` on the bounded plane tree with key scheme ``scheme`` (Gooch et al.'s
+    Gauss map, the normal cones): exactly the reference edge set, one variant, both engines.
+
+    Its ``detect`` takes the tree's shape too (``leaf_size``, ``fanout``); its plain loops are the per-light
+    query on the default tree cached with the mesh (:func:`plain_query`), whose build ``plain_setup`` runs
+    outside any timing.
+    """
+
+    def detect_one(
+        mesh: Mesh,
+        light: Light,
+        variant: str = "intended",
+        engine: str = "fast",
+        leaf_size: int = LEAF_SIZE,
+        fanout: int = FANOUT,
+    ) -> Silhouette:
+        return detect(mesh, light, name, paper_model, scheme, variant, engine, leaf_size, fanout)
+
+    def plain_setup(mesh: Mesh) -> None:
+        tree_for(mesh, scheme)
+
+    def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:
+        return plain_query(mesh, scheme, light)
+
+    return DetectorSpec(
+        name=name,
+        label=label,
+        detect=detect_one,
+        role="literature",
+        paper_model=paper_model,
+        variants=("intended",),
+        engines=("fast", "naive"),
+        visited_step="edge_test",
+        plain_edge_ids=plain_edge_ids,
+        plain_setup=plain_setup,
+        growth_variant="intended",
+        style=style,
+    )
