@@ -245,7 +245,7 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
     lines = [
         "# Measured growth: fitted exponent b in count ~ F^b",
         "",
-        "Fast engine, the detectors' measured variants (`silcount.detectors.GROWTH_VARIANT`), one point light, "
+        "Fast engine, the detectors' measured variants (each detector spec's `growth_variant`), one point light, "
         f"meshes {', '.join(sweep.SWEEP_MESHES)}. The papers claim O(n^2) with n = faces. '-' = no nonzero count. "
         "gaussmap and cones: the query's counts, without the tree's build (their `notes['build']`).",
         "",
