@@ -286,3 +286,29 @@ lights = 4
         models._ADDED.clear()
         registry._READ.clear()
     assert verdicts == {"FAILS"}  # 6 edges against 6: not fewer, whatever the paper prints
+
+
+def test_a_log_ratio_judged_at_each_tolerance_a_reading(tmp_path):
+    """The reference visits all 6 of the tetrahedron's 6 edges (by hand): log 6 / log E = 1.0, which is 0.9
+    within 0.2 and not within 0.05, so the two tolerances as readings give AMBIGUOUS."""
+    claim = """\
+source_file = "tiny"
+[[claims]]
+id = "ratio"
+section = "1"
+statement = "log visited / log E is about 0.9"
+printed = "0.9"
+check = "measured_log_ratio"
+table_reading = "none"
+mesh = "tetrahedron"
+quantity = "visited"
+against = "E"
+exponent = 0.9
+lights = 4
+readings = [{ name = "to 0.05", tolerance = 0.05 }, { name = "to 0.2", tolerance = 0.2 }]
+"""
+    (c,) = all_claims(NO_EVIDENCE, plugins.from_folders([make_paper(tmp_path / "p", claim)]))
+    models._ADDED.clear()
+    registry._READ.clear()
+    assert [(r.reading, r.holds) for r in c.readings] == [("to 0.05", False), ("to 0.2", True)]
+    assert c.verdict == "AMBIGUOUS" and "1.000" in c.readings[0].outcome

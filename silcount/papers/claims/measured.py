@@ -7,7 +7,8 @@ and quantities: :mod:`silcount.papers.measure`.  Each entry's fields (``docs/pap
 * ``measured_comparison``: ``first`` does less than ``second`` on each of ``meshes``, for each of ``quantities``
   (a reading each; HOLDS when ``first``'s per-light mean is below ``second``'s);
 * ``measured_log_ratio``: ``log q / log size`` of ``detector``'s ``quantity`` on ``mesh`` is ``exponent`` within
-  ``tolerance`` (Gooch et al.'s "log s / log f");
+  ``tolerance`` (Gooch et al.'s "log s / log f"); or, where how close "about" asks is itself a reading, within
+  each of ``readings`` (``name``, ``tolerance``) in turn;
 * ``measured_growth``: ``quantity ~ a size**b`` with ``b`` about ``exponent`` (``relation = "about"``, within
   ``tolerance``) or at most it (``"at most"``), per reading: a series of ``meshes`` (``detector``'s runs) or a
   ``corpus`` fit of the corpus study (:func:`silcount.study.corpus`, over ``$SILCOUNT_CORPUS_DIR``);
@@ -74,14 +75,23 @@ def measured_log_ratio(c: dict, source: str, ev: Evidence) -> Claim:
     run = M.measure(c.get("detector", "reference"), c["mesh"], c.get("lights", 16), c.get("seed", 0), _folder(source))
     q, size = run.value(c["quantity"]), M.size_of(run, c.get("against", "F"))
     got = math.log(q) / math.log(size)
-    holds = abs(got - c["exponent"]) <= c["tolerance"]
+    ratio = f"log {c['quantity']} / log {c.get('against', 'F')}"
+    tolerances = c.get("readings") or [{"name": ratio, "tolerance": c["tolerance"]}]
+    readings = [
+        Reading(
+            r["name"],
+            abs(got - c["exponent"]) <= r["tolerance"],
+            f"{got:.3f} against {c['exponent']} +- {r['tolerance']}",
+        )
+        for r in tolerances
+    ]
     return judged_by_readings(
         c,
         source,
         "measured ratio",
-        [Reading(f"log {c['quantity']} / log {c.get('against', 'F')}", holds, f"{got:.3f}")],
-        f"silcount's own runs on {run.where}: {M.LABEL[c['quantity']]} {q:,.1f} per light, log/log = {got:.3f} "
-        f"against {c['exponent']} +- {c['tolerance']}.",
+        readings,
+        f"silcount's own runs on {run.where}: {M.LABEL[c['quantity']]} {q:,.1f} per light, {ratio} = {got:.3f} "
+        f"against {c['exponent']} +- " + " or +- ".join(str(r["tolerance"]) for r in tolerances) + ".",
         rederived="",
         measured=f"{got:.3f} ({M.LABEL[c['quantity']]} {q:,.1f} per light on {run.where})",
         keep_one=False,
