@@ -17,7 +17,7 @@ import pytest
 from common import run_cli
 from meshfiles import TETRA_F, TETRA_V, obj_text, tetra_bytes, write
 
-from silcount.audit.layout import write_atomic
+from silcount.atomic import write_text
 
 QUAD_CUBE_V = [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
 QUAD_CUBE_F = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -299,7 +299,7 @@ def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path):
     target.write_text("old")
 
     with pytest.raises(TypeError):
-        write_atomic(target, 12345)  # type: ignore[arg-type]  # fails inside the write
+        write_text(target, 12345)  # type: ignore[arg-type]  # fails inside the write
     assert target.read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
 

@@ -10,40 +10,28 @@ same folder under the same umask.
 from __future__ import annotations
 
 import errno
-import io
 import os
 import re
 import shutil
 import stat
 import subprocess
 import sys
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
+from common import run_cli, shared_scenes
 from meshfiles import tetra_bytes, write
 
 from silcount.atomic import atomic_path, check_writable, write_text
 from silcount.cli import figures as figures_cmd
 from silcount.cli import report as report_cmd
-from silcount.cli.main import main
 from silcount.errors import UnwritableOutput
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 
 
-def run_cli(*argv: str) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        rc = main(list(argv))
-    return rc, out.getvalue(), err.getvalue()
-
-
 def scene() -> str:
-    path = Path(os.environ.get("SILCOUNT_SCENE_DIR", "")) / "cube_on_floor.json"
-    if not path.is_file():
-        pytest.skip("shared scenes not found: set SILCOUNT_SCENE_DIR")
-    return str(path)
+    return str(shared_scenes() / "cube_on_floor.json")
 
 
 def sys_refuses_root() -> bool:

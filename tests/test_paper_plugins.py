@@ -12,6 +12,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
+from common import forget_user_papers
 
 from silcount.cli.main import main
 from silcount.counting import models
@@ -73,9 +74,7 @@ def make_paper(folder: Path, claims: str = REFERENCES, manifest: str = MANIFEST)
 def _forget_user_papers():
     """Each test reads its own folders: drop the model names and papers earlier tests added."""
     yield
-    models._ADDED.clear()
-    models.load.cache_clear()
-    registry._READ.clear()
+    forget_user_papers()
 
 
 def test_the_builtin_papers_are_the_package_folders():
@@ -283,8 +282,7 @@ lights = 4
         folder = make_paper(tmp_path / printed.replace(" ", "-"), claim.replace("PRINTED", printed))
         (c,) = all_claims(NO_EVIDENCE, plugins.from_folders([folder]))
         verdicts.add(c.verdict)
-        models._ADDED.clear()
-        registry._READ.clear()
+        forget_user_papers()
     assert verdicts == {"FAILS"}  # 6 edges against 6: not fewer, whatever the paper prints
 
 
@@ -308,7 +306,5 @@ lights = 4
 readings = [{ name = "to 0.05", tolerance = 0.05 }, { name = "to 0.2", tolerance = 0.2 }]
 """
     (c,) = all_claims(NO_EVIDENCE, plugins.from_folders([make_paper(tmp_path / "p", claim)]))
-    models._ADDED.clear()
-    registry._READ.clear()
     assert [(r.reading, r.holds) for r in c.readings] == [("to 0.05", False), ("to 0.2", True)]
     assert c.verdict == "AMBIGUOUS" and "1.000" in c.readings[0].outcome

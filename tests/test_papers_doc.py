@@ -8,10 +8,9 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from common import forget_user_papers
 
 from silcount.cli.main import main
-from silcount.counting import models
-from silcount.papers import registry
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "papers-as-data.md"
 BLOCK = re.compile(r"```(\w+)\n(.*?)```", re.S)
@@ -24,9 +23,7 @@ def blocks(lang: str) -> list[str]:
 @pytest.fixture(autouse=True)
 def _forget_user_papers():
     yield
-    models._ADDED.clear()
-    models.load.cache_clear()
-    registry._READ.clear()
+    forget_user_papers()
 
 
 def test_the_docs_paper_and_commands_run_as_written(tmp_path, monkeypatch, capsys):

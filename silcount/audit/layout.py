@@ -12,9 +12,7 @@ the terminal.  The JSON document's schema is ``docs/schemas/audit.schema.json``.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
-from silcount.atomic import write_text
 from silcount.counting.arithmetic import KINDS
 
 
@@ -209,8 +207,3 @@ def format_audit(audit: dict, form: str) -> str:
     if form == "json":
         return render_json(audit)
     return render_text(audit, markdown=form == "md")
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` atomically, creating missing directories (:mod:`silcount.atomic`)."""
-    write_text(path, text)

@@ -208,9 +208,9 @@ def refusals(audits: list[dict]) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from silcount.atomic import check_writable
+    from silcount.atomic import check_writable, write_text
     from silcount.audit.costs import cycle_profile
-    from silcount.audit.layout import format_audit, render_json, write_atomic
+    from silcount.audit.layout import format_audit, render_json
     from silcount.mesh import shapes
     from silcount.mesh.chunks import limit_work, parse_work
     from silcount.mesh.io import load_mesh, parse_size
@@ -232,7 +232,7 @@ def run(args: argparse.Namespace) -> int:
             if args.out is None:
                 sys.stdout.write(text)
             else:
-                write_atomic(args.out, text)
+                write_text(args.out, text)
                 print(f"wrote {args.out}", file=sys.stderr)
             return refusals([audit])
         audits = []
@@ -241,7 +241,7 @@ def run(args: argparse.Namespace) -> int:
         if args.out is not None:
             for name, a in audits:
                 path = args.out / f"{name}.{EXTENSIONS[args.format]}"
-                write_atomic(path, format_audit(a, args.format))
+                write_text(path, format_audit(a, args.format))
                 print(f"wrote {path}", file=sys.stderr)
         elif args.format == "json":
             sys.stdout.write(render_json([a for _, a in audits]))  # type: ignore[arg-type]

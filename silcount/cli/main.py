@@ -28,14 +28,12 @@ import importlib
 import os
 import sys
 
-# numba's compiled kernels and Python's bytecode are read from inside the virtual environment unless
-# NUMBA_CACHE_DIR and PYTHONPYCACHEPREFIX say otherwise (the Makefile's own settings), so that what
-# ``make install`` compiles serves every later command, and the processes it starts (Dask's workers),
-# even where PYTHONDONTWRITEBYTECODE keeps imports from writing bytecode themselves
-if sys.prefix != sys.base_prefix:
-    os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(sys.prefix, "cache", "numba"))
-    if sys.pycache_prefix is None:
-        sys.pycache_prefix = os.environ.setdefault("PYTHONPYCACHEPREFIX", os.path.join(sys.prefix, "cache", "pycache"))
+# Python's bytecode is read from inside the virtual environment unless PYTHONPYCACHEPREFIX says otherwise
+# (the Makefile's own setting), so that what ``make install`` compiles serves every later command, and the
+# processes it starts (Dask's workers), even where PYTHONDONTWRITEBYTECODE keeps imports from writing
+# bytecode themselves; numba's cache has the same default, set by ``import silcount`` for every caller
+if sys.prefix != sys.base_prefix and sys.pycache_prefix is None:
+    sys.pycache_prefix = os.environ.setdefault("PYTHONPYCACHEPREFIX", os.path.join(sys.prefix, "cache", "pycache"))
 
 from silcount.errors import SilcountError
 

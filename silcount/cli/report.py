@@ -62,8 +62,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def audit_one(out_dir: Path, name: str) -> list[Path]:
     """Audit built-in mesh ``name`` into ``out_dir/audit/<name>.md`` and ``.json``; returns the paths."""
+    from silcount.atomic import write_text
     from silcount.audit.compute import AuditSettings, run_audit
-    from silcount.audit.layout import format_audit, write_atomic
+    from silcount.audit.layout import format_audit
     from silcount.detectors import names
     from silcount.mesh import shapes
     from silcount.mesh.lights import random_lights
@@ -76,7 +77,7 @@ def audit_one(out_dir: Path, name: str) -> list[Path]:
     written = []
     for form in ("md", "json"):
         path = out_dir / "audit" / f"{name}.{EXTENSIONS[form]}"
-        write_atomic(path, format_audit(audit, form))
+        write_text(path, format_audit(audit, form))
         written.append(path)
     return written
 

@@ -32,3 +32,14 @@ def shared_scenes() -> Path:
     if d is None:
         pytest.skip(NO_SHARED_SCENES)
     return d
+
+
+def forget_user_papers() -> None:
+    """Drop the model names and papers that earlier tests read from folders of their own (``--paper``),
+    so that each test reads its own."""
+    from silcount.counting import models
+    from silcount.papers import registry
+
+    models._ADDED.clear()
+    models.load.cache_clear()
+    registry._READ.clear()
