@@ -16,7 +16,8 @@ Detectors are added with ``silcount.register_detector(silcount.DetectorSpec(...)
 package's entry point in the group ``silcount.detectors`` (``docs/extending.md``), found on first use.
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
-(:mod:`silcount.study`).
+(:mod:`silcount.study`); ``silcount.worst_case(detector, ...)`` searches for a worst case
+(:mod:`silcount.worstcase`).
 """
 
 from __future__ import annotations
@@ -70,6 +71,7 @@ _LAZY: dict[str, str] = {
     "corpus": "silcount.study",
     "DetectorSpec": "silcount.detectors.spec",
     "register_detector": "silcount.detectors.registry",
+    "worst_case": "silcount.worstcase",
 }
 _LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
 
@@ -91,6 +93,7 @@ if TYPE_CHECKING:
     from silcount.papers.claims import claims_frame as claims
     from silcount.papers.tables import tables_frame as tables
     from silcount.study import corpus
+    from silcount.worstcase import worst_case
 
 
 def __getattr__(name: str) -> Any:
@@ -120,6 +123,7 @@ __all__ = [
     "claims",
     "tables",
     "corpus",
+    "worst_case",
     "load_mesh",
     "PointLight",
     "DirectionalLight",
