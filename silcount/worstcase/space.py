@@ -8,7 +8,8 @@ print it and a seed rebuilds it.  :func:`build` turns it into a mesh and a light
   a latitude-longitude sphere, a torus, a prism over a regular polygon (n-gon caps, quad sides), and a
   triangulated prism (its caps fanned into coplanar triangles: ties);
 * **size**: a level per shape (:func:`size_of`), so that a family is one genome grown over its levels;
-* **subdivisions**: midpoint subdivisions of a triangle mesh (0-2), and a seeded **perturbation** of the
+* **subdivisions**: midpoint subdivisions of a triangle mesh (0-2; none for the prisms, whose quads would
+  leave T-junctions), and a seeded **perturbation** of the
   vertices along their offsets from the centre (amplitude 0-0.3 of the bounding radius);
 * **face orders** (:data:`ORDERS`): TA and HSD read the faces in index order and their array S depends on it
   (:mod:`silcount.papers.witness`): as built, reversed, a seeded shuffle, the lit faces first or last, a sweep
@@ -38,6 +39,7 @@ from silcount.mesh.shapes import icosphere, plane, torus, uv_sphere
 
 SHAPES = ("icosphere", "dome", "strip", "grid", "uv_sphere", "torus", "prism", "fan_prism")
 CLOSED_SHAPES = ("icosphere", "dome", "uv_sphere", "torus", "prism", "fan_prism")
+QUAD_SHAPES = ("prism", "fan_prism")  # quad sides: no midpoint subdivision (it would leave T-junctions)
 ORDERS = ("as_built", "reversed", "shuffle", "lit_first", "unlit_first", "near_first", "far_first", "stride")
 LIGHTS = ("angles", "axis", "grazing", "on_plane", "point")
 MAX_LEVEL = 12
@@ -74,7 +76,8 @@ class Genome:
     def canonical(self) -> Genome:
         """The same mesh and light with every gene that does not act set to its default (one cache key each)."""
         d, base = asdict(self), asdict(Genome())
-        used = {"shape", "level", "subdiv", "perturb", "order", "rotate_corners", "light", "defect"}
+        used = {"shape", "level", "perturb", "order", "rotate_corners", "light", "defect"}
+        used |= {"subdiv"} if self.shape not in QUAD_SHAPES else set()
         used |= {"height"} if self.shape == "dome" else set()
         used |= {"stride"} if self.order == "stride" else set()
         used |= {"axis"} if self.light == "axis" else {"theta", "phi"}
@@ -256,7 +259,7 @@ def build(g: Genome) -> tuple[Mesh, Light]:
     """The mesh and light of genome ``g`` (deterministic: every random choice is seeded by ``g.seed``)."""
     base = base_mesh(g.shape, g.level, g.height)
     verts, faces = base.vertices.copy(), _polygons(base)
-    for _ in range(max(0, min(int(g.subdiv), 2))):
+    for _ in range(max(0, min(int(g.subdiv), 2)) if g.shape not in QUAD_SHAPES else 0):
         verts, faces = _subdivide(verts, faces)
     if g.perturb > 0:
         centre = verts.mean(0)
