@@ -2,7 +2,7 @@
 
 * :func:`exceed`: an execution whose cost exceeds a bound at the mesh's own parameters (the upper-bound check,
   ``docs/claims.md`` rule 7), shrunk to the smallest mesh of the generators that still exceeds it;
-* :func:`family`: rules (a genome without its level) searched by their local exponent between two small levels,
+* :func:`family`: rules (a genome without its level) searched by their local exponent at small sizes,
   the best grown over at least two decades of faces and fitted (:func:`silcount.study.fits.power_fit`, exponent
   and 95 % bootstrap interval), as Singularity (FSE 2018) grows input patterns;
 * :func:`per_output`: for output-sensitive detectors (``gaussmap``, ``cones``), the largest fraction of the
@@ -20,7 +20,8 @@ from silcount.worstcase.objective import Bound, Measure, excess
 from silcount.worstcase.search import Evaluator, Scored, is_closed, run_search, shrink
 from silcount.worstcase.space import MAX_LEVEL, Genome, build
 
-FAMILY_LEVELS = (2, 4)  # the small levels between which a rule's local exponent is measured
+MIN_FACES = 64  # the smallest mesh of a family's fit
+LOCAL_FACES = 1_000  # a rule's local exponent: between its levels of MIN_FACES .. LOCAL_FACES faces
 MAX_FACES = 40_000  # the largest mesh a family is grown to
 GROW = 3  # rules grown and fitted after the search
 
@@ -112,56 +113,60 @@ def exceed(
     )
 
 
-def _levels(g: Genome, closed_only: bool, measure: Measure) -> list[tuple[int, float]]:
-    """(faces, cost) of ``g`` at each level up to :data:`MAX_FACES` faces."""
-    out = []
+def _series(g: Genome, closed_only: bool, measure: Measure, stop: int = MAX_FACES):
+    """(faces, cost) of ``g`` at each level from the first of at least :data:`MIN_FACES` faces up to ``stop``
+    faces (tiny meshes are left out: their lower-order terms bend the fit)."""
     for level in range(1, MAX_LEVEL + 1):
         got = _run_all(measure, g.at_level(level), closed_only)
         if got is None:
-            break
+            return
         mesh, _, runs = got
-        if mesh.n_faces > MAX_FACES:
-            break
-        out.append((mesh.n_faces, max(measure.value(measure.tally(r)) for _, r in runs)))
-    return out
+        if mesh.n_faces > stop:
+            return
+        if mesh.n_faces >= MIN_FACES:
+            yield mesh.n_faces, max(measure.value(measure.tally(r)) for _, r in runs)
 
 
 def family(
-    measure: Measure, *, seed: int = 0, budget: int = 200, method: str = "evolve", closed_only: bool = True, tick=None
+    measure: Measure,
+    *,
+    seed: int = 0,
+    budget: int = 200,
+    method: str = "evolve",
+    closed_only: bool = True,
+    tick=None,
+    grow: int = GROW,
 ) -> Outcome:
-    """Search rules by their local exponent between levels :data:`FAMILY_LEVELS`, grow the best :data:`GROW`
-    distinct rules over every level up to :data:`MAX_FACES` faces and fit each; the fastest fit wins."""
-    lo, hi = FAMILY_LEVELS
+    """Search rules by their local exponent between the first two levels of at least :data:`MIN_FACES` and
+    :data:`LOCAL_FACES` faces, grow the best ``grow`` distinct rules over every level up to :data:`MAX_FACES`
+    faces and fit each; the fastest fit over at least two decades wins."""
 
     def score(g: Genome) -> Scored | None:
-        g = g.at_level(lo)
-        points = []
-        for level in (lo, hi):
-            got = _run_all(measure, g.at_level(level), closed_only)
-            if got is None:
-                return None
-            mesh, _, runs = got
-            points.append((mesh.n_faces, max(measure.value(measure.tally(r)) for _, r in runs)))
-        (f1, c1), (f2, c2) = points
+        g = g.at_level(1)
+        points = list(_series(g, closed_only, measure, stop=LOCAL_FACES))
+        if len(points) < 2:
+            return None
+        (f1, c1), (f2, c2) = points[0], points[-1]
         if f2 <= f1 or c1 <= 0 or c2 <= 0:
             return None
         return Scored(g, math.log(c2 / c1) / math.log(f2 / f1), False, f1)
 
     ev = Evaluator(score, budget, closed_only, tick=tick)
-    ranked = run_search(ev, method, seed, closed_only, max_level=lo)
-    rows, seen = [], set()
+    ranked = run_search(ev, method, seed, closed_only, max_level=1)
+    rows: list[dict] = []
+    seen = set()
     for s in ranked:
-        rule = s.genome.at_level(lo).rule()
+        rule = s.genome.rule()
         if rule in seen or not math.isfinite(s.score):
             continue
         seen.add(rule)
-        series = _levels(s.genome, closed_only, measure)
+        series = list(_series(s.genome, closed_only, measure))
         fit = power_fit([f for f, _ in series], [c for _, c in series])
         decades = math.log10(series[-1][0] / series[0][0]) if len(series) > 1 else 0.0
         rows.append(
             {
                 "rule": rule,
-                "genome": s.genome.at_level(lo),
+                "genome": s.genome,
                 "local": s.score,
                 "alpha": fit["alpha"],
                 "ci": fit["alpha_ci"],
@@ -170,7 +175,7 @@ def family(
                 "decades": decades,
             }
         )
-        if len(rows) == GROW:
+        if len(rows) == grow:
             break
     valid = [r for r in rows if r["alpha"] is not None and r["decades"] >= 2.0]
     best = max(valid, key=lambda r: r["alpha"]) if valid else None

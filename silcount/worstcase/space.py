@@ -42,7 +42,7 @@ CLOSED_SHAPES = ("icosphere", "dome", "uv_sphere", "torus", "prism", "fan_prism"
 QUAD_SHAPES = ("prism", "fan_prism")  # quad sides: no midpoint subdivision (it would leave T-junctions)
 ORDERS = ("as_built", "reversed", "shuffle", "lit_first", "unlit_first", "near_first", "far_first", "stride")
 LIGHTS = ("angles", "axis", "grazing", "on_plane", "point")
-MAX_LEVEL = 12
+MAX_LEVEL = 14
 
 
 @dataclass(frozen=True)
@@ -109,7 +109,7 @@ def size_of(shape: str, level: int) -> dict:
         return {"slices": int(round(4 * 1.45 ** (lv - 1))), "stacks": max(2, int(round(3 * 1.45 ** (lv - 1))))}
     if shape == "torus":
         return {"n_major": int(round(6 * 1.45 ** (lv - 1))), "n_minor": int(round(4 * 1.45 ** (lv - 1)))}
-    return {"sides": int(round(3 * 1.6 ** (lv - 1)))}
+    return {"sides": int(3 * 2 ** (lv - 1))}
 
 
 def dome(k: int, height: float) -> Mesh:
