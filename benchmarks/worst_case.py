@@ -105,75 +105,25 @@ def _line(r: dict) -> str:
     )
 
 
-def typical(detector: str) -> float | None:
-    """Total true operations against faces on the icosphere series (as built, the default light)."""
-    from silcount.detectors import detect
-    from silcount.study.fits import power_fit
-    from silcount.worstcase.space import Genome, build
-
-    faces, costs = [], []
-    for level in range(2, 7):
-        mesh, light = build(Genome(shape="icosphere", level=level))
-        run = detect(mesh, light, detector, engine="fast")
-        faces.append(mesh.n_faces)
-        costs.append(sum(run.tally["true"].values()))
-    return power_fit(faces, costs)["alpha"]
-
-
-def rows(method: str) -> list[dict]:
+def rows() -> list[dict]:
+    """The rows of :mod:`silcount.worstcase.rows` with :data:`ROW_BUDGET`, printed as they come, with seconds."""
     from silcount.detectors.registry import specs
-    from silcount.worstcase import worst_case
+    from silcount.worstcase.rows import row
 
     out = []
     for spec in specs():
         t = time.perf_counter()
-        fam = worst_case(spec.name, goal="family", budget=ROW_BUDGET, method=method)
-        row = {
-            "detector": spec.name,
-            "typical": typical(spec.name),
-            "worst": fam.outcome.numbers.get("alpha"),
-            "worst_ci": fam.outcome.numbers.get("ci"),
-            "worst_rule": fam.outcome.numbers.get("rule", ""),
-            "budget": ROW_BUDGET,
-        }
-        if spec.name in ("gaussmap", "cones"):
-            po = worst_case(spec.name, goal="per-output", budget=ROW_BUDGET, method=method, closed_only=False)
-            n = po.outcome.numbers
-            row |= {
-                "worst_fraction_of_E": n.get("fraction_of_E"),
-                "edges_per_output": n.get("edges_per_output"),
-                "nodes_per_output": n.get("nodes_per_output"),
-                "mesh_and_light": (f"{po.outcome.genome.rule()}, level={po.outcome.genome.level}; {n.get('light')}")
-                if po.outcome.genome
-                else "",
-            }
-        row["seconds"] = round(time.perf_counter() - t, 1)
-        row["load"] = load_line()
-        out.append(row)
-        print(json.dumps(row), flush=True)
+        r = row(spec.name, ROW_BUDGET)
+        r["seconds"] = round(time.perf_counter() - t, 1)
+        r["load"] = load_line()
+        out.append(r)
+        print(json.dumps(r), flush=True)
     return out
-
-
-def markdown(table: list[dict]) -> str:
-    lines = [
-        "| detector | typical exponent | worst exponent found [95 % CI] | worst family | worst fraction of E tested "
-        "| mesh and light |",
-        "|---|---:|---:|---|---:|---|",
-    ]
-    for r in table:
-        ci = r["worst_ci"]
-        worst = f"{r['worst']:.3f} [{ci[0]:.3f}, {ci[1]:.3f}]" if r["worst"] is not None and ci else "-"
-        frac = f"{r['worst_fraction_of_E']:.3f}" if r.get("worst_fraction_of_E") is not None else ""
-        lines.append(
-            f"| {r['detector']} | {r['typical']:.3f} | {worst} | {r['worst_rule']} | {frac} | "
-            f"{r.get('mesh_and_light', '')} |"
-        )
-    return "\n".join(lines) + "\n"
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--method", default="evolve", choices=("evolve", "hypothesis"))
+    ap.add_argument("--method", default="evolve", choices=("evolve", "hypothesis"), help="of the rediscovery targets")
     ap.add_argument("--rows-only", action="store_true")
     ap.add_argument("--targets-only", action="store_true")
     ap.add_argument("--out", type=Path, default=None)
@@ -182,7 +132,9 @@ def main() -> None:
     if not args.rows_only:
         rediscovery(args.method)
     if not args.targets_only:
-        table = rows(args.method)
+        from silcount.worstcase.rows import markdown
+
+        table = rows()
         print(markdown(table))
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)

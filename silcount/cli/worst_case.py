@@ -7,6 +7,8 @@ from pathlib import Path
 
 from silcount.options import WORST_CASE_GOALS, WORST_CASE_KINDS, WORST_CASE_METHODS
 
+REPORT_BUDGET = 8  # evaluations per search of each detector's row in `silcount report` (seconds, not minutes)
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--detector", required=True, help="a registered detector (silcount audit --help lists them)")
@@ -32,6 +34,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--open", action="store_true", help="search open and defective meshes too (default: closed, consistently wound)"
     )
     parser.add_argument("--out", type=Path, default=None, metavar="DIR", help="write the witness and summary.json here")
+
+
+def report(out_dir: Path) -> list[Path]:
+    """Write ``<out_dir>/worst-case/rows.md`` and ``rows.json``: a worst-case row per detector
+    (:mod:`silcount.worstcase.rows`, seed 0, :data:`REPORT_BUDGET` evaluations per search, the best rule grown)."""
+    import json
+
+    from silcount.atomic import make_folder, write_text
+    from silcount.worstcase.rows import markdown, rows
+
+    table = rows(REPORT_BUDGET, grow=1)
+    folder = make_folder(out_dir / "worst-case")
+    head = (
+        "# A worst-case row per detector\n\n"
+        f"Written by `silcount report` (silcount/worstcase/rows.py): seed 0, {REPORT_BUDGET} evaluations per search, "
+        "the best rule grown from 64 to 40,000 faces; `python -m benchmarks.worst_case --rows-only` runs a larger "
+        "budget. Typical: total true operations on the icosphere series, as built, one directional light. "
+        "docs/worst-case.md says what is searched.\n\n"
+    )
+    return [
+        write_text(folder / "rows.md", head + markdown(table)),
+        write_text(folder / "rows.json", json.dumps(table, indent=2, sort_keys=True) + "\n"),
+    ]
 
 
 def run(args: argparse.Namespace) -> int:
