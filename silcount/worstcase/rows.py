@@ -78,7 +78,6 @@ def markdown(table: list[dict]) -> str:
             if r.get("edges_per_output") is not None
             else ""
         )
-        lines.append(
-            f"| {r['detector']} | {typ} | {worst} | {r['worst_rule']} | {frac} | {per} | {r.get('mesh_and_light', '')} |"
-        )
+        where = r.get("mesh_and_light", "")
+        lines.append(f"| {r['detector']} | {typ} | {worst} | {r['worst_rule']} | {frac} | {per} | {where} |")
     return "\n".join(lines) + "\n"
