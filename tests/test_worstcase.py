@@ -3,6 +3,7 @@ shrinking that keeps the property, determinism, and "not found" where nothing ca
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 
 import pytest
@@ -135,3 +136,23 @@ def test_the_command_line_reports_a_bad_bound_in_one_line_with_exit_2():
     rc, _, err = run_cli("worst-case", "--detector", "ta", "--bound", "f_n**(")
     assert rc == 2
     assert err.count("\n") == 1 and "not a closed form" in err
+
+
+def test_the_api_returns_a_frame_and_the_summary_names_the_files(hsd_witness):
+    result, out = hsd_witness
+    df = result.frame()
+    assert len(df) == 1 and bool(df["found"].iloc[0]) and df["evaluations"].iloc[0] == result.outcome.evaluations
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["files"] == {"mesh": "witness.obj", "light": "witness.light.json"} and summary["found"]
+
+
+def test_cycles_under_a_profile_are_a_measure():
+    """Cycles under a built-in profile are the tally weighed kind by kind (weights read from the profile)."""
+    from silcount.counting.cycles import builtin_profiles
+    from silcount.worstcase.objective import Measure
+
+    name = next(iter(builtin_profiles()))
+    weights = builtin_profiles()[name].weights
+    tally = {"add": 2, "mul": 3, "cmp": 5, "read": 7, "write": 11}
+    expected = sum(weights[k] * v for k, v in tally.items())
+    assert Measure("ta", profile=name).value(tally) == pytest.approx(expected)
