@@ -87,12 +87,13 @@ def test_a_printed_line_without_a_hand_built_execution_is_judged_with_a_found_on
     naive engine, and the claim says the witness was found, not built (before the search: a ValueError)."""
     from silcount.papers.claims import derivations
 
+    hand = witness.bound_witness("hsd2011-hsd")
     monkeypatch.delitem(witness.BOUND_WITNESSES, "hsd2011-hsd")
     claim = derivations._upper_bound("hsd2011-hsd")
     assert claim.verdict == FAILS
     assert "found by silcount's worst-case search" in claim.measured and "naive hsd" in claim.measured
     found = witness.found_bound_witness("hsd2011-hsd")
-    assert found is not None and found.over and found.faces < witness.bound_witness("hsd2011-hsd").faces
+    assert found is not None and found.over and found.faces < hand.faces
 
 
 # ---- the rule -------------------------------------------------------------------------------------------------
