@@ -105,13 +105,15 @@ def _line(r: dict) -> str:
     )
 
 
-def rows() -> list[dict]:
+def rows(only: list[str] | None = None) -> list[dict]:
     """The rows of :mod:`silcount.worstcase.rows` with :data:`ROW_BUDGET`, printed as they come, with seconds."""
     from silcount.detectors.registry import specs
     from silcount.worstcase.rows import row
 
     out = []
     for spec in specs():
+        if only and spec.name not in only:
+            continue
         t = time.perf_counter()
         r = row(spec.name, ROW_BUDGET)
         r["seconds"] = round(time.perf_counter() - t, 1)
@@ -127,6 +129,7 @@ def main() -> None:
     ap.add_argument("--rows-only", action="store_true")
     ap.add_argument("--targets-only", action="store_true")
     ap.add_argument("--out", type=Path, default=None)
+    ap.add_argument("--detectors", default="", help="rows of these detectors only (comma-separated)")
     args = ap.parse_args()
     print(f"start: {load_line()}", flush=True)
     if not args.rows_only:
@@ -134,7 +137,7 @@ def main() -> None:
     if not args.targets_only:
         from silcount.worstcase.rows import markdown
 
-        table = rows()
+        table = rows([d for d in args.detectors.split(",") if d])
         print(markdown(table))
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)

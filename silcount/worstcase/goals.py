@@ -24,6 +24,8 @@ MIN_FACES = 64  # the smallest mesh of a family's fit
 LOCAL_FACES = 1_000  # a rule's local exponent: between its levels of MIN_FACES .. LOCAL_FACES faces
 MAX_FACES = 40_000  # the largest mesh a family is grown to
 GROW = 3  # rules grown and fitted after the search
+PER_OUTPUT_MIN_FACES = 500  # per-output: smaller meshes are one or two leaves, every edge tested by construction
+PER_OUTPUT_LEVELS = 9  # per-output: the levels searched (up to 6,144 faces on a 3,072-gon prism)
 
 
 @dataclass
@@ -200,13 +202,16 @@ def family(
 def per_output(
     measure: Measure, *, seed: int = 0, budget: int = 200, method: str = "evolve", closed_only: bool = True, tick=None
 ) -> Outcome:
-    """Search for the largest fraction of the edges an output-sensitive detector tests (``edge_test / E``)."""
+    """Search for the largest fraction of the edges an output-sensitive detector tests (``edge_test / E``), on
+    meshes of at least :data:`PER_OUTPUT_MIN_FACES` faces (a mesh of one or two leaves is all tested)."""
 
     def score(g: Genome) -> Scored | None:
         got = _run_all(measure, g, closed_only)
         if got is None:
             return None
         mesh, light, runs = got
+        if mesh.n_faces < PER_OUTPUT_MIN_FACES:
+            return None
         _, run = runs[0]
         if "edge_test" not in run.steps:
             from silcount.errors import BadArgument
@@ -225,7 +230,7 @@ def per_output(
         return Scored(g, run.steps["edge_test"] / mesh.n_edges, False, mesh.n_faces, detail)
 
     ev = Evaluator(score, budget, closed_only, tick=tick)
-    ranked = run_search(ev, method, seed, closed_only)
+    ranked = run_search(ev, method, seed, closed_only, max_level=PER_OUTPUT_LEVELS)
     best = ranked[0] if ranked and math.isfinite(ranked[0].score) else None
     numbers = {} if best is None else {"fraction_of_E": best.score, "faces": best.faces, **best.detail}
     return Outcome(
