@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import json
 from dataclasses import replace
+from pathlib import Path
 
+import jsonschema
 import pytest
 import sympy as sp
 
@@ -144,6 +146,11 @@ def test_the_api_returns_a_frame_and_the_summary_names_the_files(hsd_witness):
     assert len(df) == 1 and bool(df["found"].iloc[0]) and df["evaluations"].iloc[0] == result.outcome.evaluations
     summary = json.loads((out / "summary.json").read_text())
     assert summary["files"] == {"mesh": "witness.obj", "light": "witness.light.json"} and summary["found"]
+    schema = json.loads((Path(__file__).resolve().parent.parent / "docs/schemas/worst-case.schema.json").read_text())
+    jsonschema.Draft202012Validator.check_schema(schema)
+    jsonschema.validate(summary, schema)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate({**summary, "goal": "fastest"}, schema)
 
 
 def test_cycles_under_a_profile_are_a_measure():

@@ -100,7 +100,9 @@ def exceed(
     if best is not None and best.met:
         best = shrink(ev, best)
     found = best is not None and best.met
-    numbers = {"ratio": best.score, "faces": best.faces, **best.detail} if best is not None else {}
+    numbers = {}
+    if best is not None:  # a zero bound exceeded: no finite ratio (JSON has no infinity)
+        numbers = {"ratio": best.score if math.isfinite(best.score) else None, "faces": best.faces, **best.detail}
     return Outcome(
         "exceed",
         measure.describe() + f" against {bound.text}",
