@@ -37,7 +37,10 @@ same bits as the stored depth.  GL's window origin is the bottom-left corner: re
 silcount's row 0 at the top.  The 8-bit stencil wraps; read as int8 it is silcount's count while counts stay
 within -128..127.  moderngl opens the headless EGL context and runs the queries; PyOpenGL makes the other GL
 calls (moderngl 5 has no stencil operations).  Both come with the ``gl`` extra, imported on first use;
-without them, or without an EGL driver, :class:`silcount.errors.NoOpenGL` says which.
+without them, or without an EGL driver, :class:`silcount.errors.NoOpenGL` says which.  Importing this module
+loads numpy alone (the detectors and the rasteriser's helpers on a frame's first use), so that
+``tests/oracles/gl_stencil.py``'s whole llvmpipe process, which draws with :class:`GLFrame`, starts as a
+plain GL application would.
 """
 
 from __future__ import annotations
@@ -48,17 +51,14 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from silcount.detectors import detect
 from silcount.errors import BadArgument, NoOpenGL, check_choice
-from silcount.render.camera import Camera
-from silcount.render.raster import homogeneous, to_clip
-from silcount.render.scene import Scene
-from silcount.render.triangle_volumes import triangle_volumes
-from silcount.render.volumes import build_volume
+
+if TYPE_CHECKING:
+    from silcount.render.scene import Scene
 
 STAGES = ("detection", "volume", "depth", "stencil", "lit", "final")
 METHODS = ("zpass", "zfail", "pertriangle")
@@ -245,11 +245,16 @@ class GLFrameResult:
 
 def scene_clip(scene: Scene) -> np.ndarray:
     """(T, 3, 4) every scene triangle in clip space, objects in file order (uploaded once by :meth:`set_scene`)."""
+    from silcount.render.camera import Camera
+    from silcount.render.raster import homogeneous, to_clip
+
     return to_clip(homogeneous(scene.triangles), Camera.of(scene).view_projection)
 
 
 def _silhouettes(scene: Scene, detector: str, variant: str) -> list:
     """The detection stage: the detector's silhouette of every caster (None for objects that cast nothing)."""
+    from silcount.detectors import detect
+
     return [
         detect(o.mesh, scene.light, detector, variant=variant, engine="fast") if o.casts_shadow else None
         for o in scene.objects
@@ -258,6 +263,11 @@ def _silhouettes(scene: Scene, detector: str, variant: str) -> list:
 
 def _volume_clip(scene: Scene, clip: np.ndarray, method: str, silhouettes: list) -> np.ndarray:
     """The volume stage's geometry: (V, 3, 4) clip-space triangles, light caps taken from ``clip``'s rows."""
+    from silcount.render.camera import Camera
+    from silcount.render.raster import to_clip
+    from silcount.render.triangle_volumes import triangle_volumes
+    from silcount.render.volumes import build_volume
+
     vp = Camera.of(scene).view_projection
     offsets = np.concatenate([[0], np.cumsum([o.mesh.n_faces for o in scene.objects])])
     parts = []
