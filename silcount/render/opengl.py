@@ -25,7 +25,12 @@ Stages, named as the software renderer names them:
     the colour read back and the mask formed: in shadow where the ambient pass drew and the lit pass did not.
 
 Each stage is bounded by ``ctx.finish()`` (``glFinish``) on both sides and timed twice: wall time on the CPU
-(``time.perf_counter``) and GPU time by a ``GL_TIME_ELAPSED`` query (moderngl's ``ctx.query(time=True)``).
+(``time.perf_counter``) and GPU time by a ``GL_TIME_ELAPSED`` query (moderngl's ``ctx.query(time=True)``),
+which encloses a ``glFinish`` too, since llvmpipe rasterises when the commands are flushed.  On llvmpipe
+the query still reports far less than the stage's wall time for the large draws (``python -m
+benchmarks.frame_gl``, docs/performance.md: 20 ms against 228 ms for per-triangle volumes into the stencil on
+torus_self_shadow at 512x512), so there the wall time is the measure and the query's time is only printed
+beside it.
 A ``GL_SAMPLES_PASSED`` query (``ctx.query(samples=True)``) on the same stage gives ``fragments``: the
 fragments that passed the depth and stencil tests, i.e. depth writes in ``depth``, stencil updates in
 ``stencil`` and lit fragments in ``lit`` (none in the other stages).  The frame's wall time runs from the
@@ -320,6 +325,7 @@ def gl_frame(
         t = time.perf_counter()
         with queries[name]:
             yield
+            ctx.finish()  # inside the query: llvmpipe rasterises at the flush, which the query must enclose
         ctx.finish()
         walls[name] = time.perf_counter() - t
 
