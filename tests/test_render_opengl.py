@@ -11,6 +11,7 @@ gives the same wrong mask in GL.  Skips, saying why, without moderngl and PyOpen
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import sys
 from pathlib import Path
@@ -20,7 +21,7 @@ import pytest
 from common import shared_scenes
 
 from silcount.errors import NoOpenGL
-from silcount.mesh.lights import PointLight
+from silcount.mesh.lights import DirectionalLight, PointLight
 from silcount.mesh.model import from_polygons
 from silcount.render.masks import compare_masks
 from silcount.render.methods import render_method
@@ -119,6 +120,18 @@ def test_per_triangle_volumes_on_opengl_equal_ray_casting(gl_context, name):
     c = compare_masks(res.mask, truth.mask, truth.coverage)
     assert c.far == 0 and c.ok, c.describe()
     assert truth.mask.sum() > 1000  # there is a shadow to agree on
+
+
+def test_per_triangle_volumes_under_a_directional_light_equal_ray_casting(gl_context):
+    """A directional light sends every far corner to the one point ``(-d, 0)``: the dark caps and half the
+    side triangles have no area, and the volumes are still closed (the shared scenes' lights are points)."""
+    sc = dataclasses.replace(scene("cow_and_cubes"), light=DirectionalLight((1.0, 2.0, 0.5)))
+    gl_context.set_scene(scene_clip(sc))
+    res = gl_frame(sc, "pertriangle", gl=gl_context)
+    truth = render_method(sc, "raycast")
+    c = compare_masks(res.mask, truth.mask, truth.coverage)
+    assert c.far == 0 and c.ok, c.describe()
+    assert truth.mask.sum() > 1000
 
 
 @pytest.mark.parametrize("method", ["zfail", "zpass"])
