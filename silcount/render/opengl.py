@@ -130,6 +130,8 @@ class GLFrame:
         GL.glClearDepth(1.0)
         GL.glClearStencil(0)
         GL.glClearColor(0.0, 0.0, 0.0, 0.0)
+        # one time + samples-passed query per GL stage, reused frame after frame (moderngl frees none by itself)
+        self.queries = {s: self.ctx.query(samples=True, time=True) for s in STAGES[1:]}
 
     def _use_program(self) -> int:
         """Compile, link and bind the pass-through program (the only one: it stays bound); its colour uniform."""
@@ -315,8 +317,7 @@ def gl_frame(
         raise BadArgument(
             f"OpenGL frame: the context is {gl.width}x{gl.height}, the scene {scene.width}x{scene.height}"
         )
-    ctx = gl.ctx
-    queries = {s: ctx.query(samples=True, time=True) for s in STAGES[1:]}
+    ctx, queries = gl.ctx, gl.queries
     walls: dict[str, float] = {}
 
     @contextmanager
