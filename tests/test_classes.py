@@ -154,3 +154,27 @@ def test_the_corpus_fits_carry_the_class_of_their_points():
     assert fit["classes"] == choose(n, 3.0 * n**2).as_dict()
     assert power_fit([10, 100, 10], [1, 2, 3])["classes"] is None  # two distinct sizes: no class
     assert power_fit([0.5, 10, 100], [1, 2, 3])["classes"] is None  # log 0.5 < 0: log n is no cost there
+
+
+def test_the_o_verdict_shows_each_familys_class_and_keeps_its_outcome():
+    """The complexity rule (docs/claims.md, rule 7) prints the class beside the exponent; the verdict and its
+    grounds are those of the same exponents without a class."""
+    from silcount.counting import models
+    from silcount.papers.claims import HOLDS, inventory
+    from silcount.papers.claims.context import Evidence
+    from silcount.papers.growth import Exponent, measure_exponent
+
+    faces = [20, 80, 320, 1280, 5120]  # reports/figures/growth.md: TA's true totals on the icosphere sweep
+    typical = measure_exponent("ta", "true", faces, [1330, 6413, 37404, 241500, 1683750], "icosphere sweep (...)")
+    witness_faces = [320, 1280, 5120, 20480]
+    worst = measure_exponent("ta", "true", witness_faces, [3.0 * f**1.95 for f in witness_faces], "witness family 'w'")
+    assert (typical.classes.chosen, worst.classes.chosen) == ("n log n", "n^2")
+    bare = [Exponent(e.detector, e.cost_model, e.exponent, e.low, e.high, e.points, e.source) for e in (typical, worst)]
+    entry = next(c for c in models.load("eesd2012-claims")["claims"] if c["id"] == "eesd-complexity-ta")
+    with_class = inventory.complexity(entry, "eesd.txt", Evidence(exponents=(typical,), worst=(worst,)))
+    without = inventory.complexity(entry, "eesd.txt", Evidence(exponents=(bare[0],), worst=(bare[1],)))
+    assert with_class.verdict == without.verdict == HOLDS
+    assert f"F^{typical.exponent:.2f} [{typical.low:.2f}, {typical.high:.2f}], class n log n (w " in with_class.measured
+    assert "runner-up n^1.5" in with_class.measured
+    assert "reached by the witness family 'w' (F^1.95 [1.95, 1.95], class n^2 (w " in with_class.reason
+    assert "class" not in without.reason
