@@ -4,7 +4,8 @@ Every registered detector (:func:`silcount.detectors.names`) runs with the ``fas
 engine on the icosphere series (F = 20 * 4**k faces) and on the shared real
 meshes (``$SILCOUNT_MESH_DIR``) for one fixed point light; for each cost model
 and operation kind the exponent b of ``count ~ a F**b`` is fitted by least
-squares on log-log over the icospheres.  The papers claim O(n^2) for TA, VnV
+squares on log-log over the icospheres; :func:`measure_exponent` adds the
+complexity class of the same points (:mod:`silcount.study.classes`).  The papers claim O(n^2) for TA, VnV
 and EESD with n = faces (EESD paper Sec. 5; HSD paper Sec. VI).
 
 The tables' "measured" columns need meshes whose n (faces) and m (sides per
