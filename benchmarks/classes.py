@@ -91,7 +91,8 @@ def main() -> None:
             boot = choose(sizes, np.exp(series(name, sizes, sigma, np.random.default_rng(1))[0]))
             cells += [f"{boot.shares[NAMES.index(name)]:.3f}", f"{right_draws(name, sizes, sigma):.3f}"]
         span = span_needed(sigma, sizes.size)
-        print(f"| {det} | {sigma:.3f} | " + " | ".join(cells) + f" | {'> 40' if span is None else f'{span:.2f}'} |")
+        shown = "> 40" if span is None else f"<= {span:.2f}" if span == SPANS[0] else f"{span:.2f}"  # the least tried
+        print(f"| {det} | {sigma:.3f} | " + " | ".join(cells) + f" | {shown} |")
     print(f"\n({time.perf_counter() - t0:.1f} s)")
 
 
