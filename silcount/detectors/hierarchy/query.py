@@ -28,6 +28,7 @@ from silcount.detectors.spec import DetectorSpec
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
+from silcount.threads import fitted
 
 PARALLEL_NODES = 1 << 15  # smaller trees are walked on one thread (waking the thread pool costs more than it saves)
 _SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDictionary()
@@ -36,10 +37,11 @@ _SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDi
 def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, dict[str, int], int]:
     """Edge ids (unsorted), steps and face-evaluation ties of one query, compiled.
 
-    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when numba has more than one
-    thread, smaller ones on one; the ids and steps are the same either way.  The edges are written into
-    one output buffer kept with the tree (the subtrees write from their own first positions, so a fresh
-    buffer would be touched page by page on every query), then copied out.
+    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when more than one of numba's
+    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on one; the ids and steps are the
+    same either way.  The edges are written into one output buffer kept with the tree (the subtrees write
+    from their own first positions, so a fresh buffer would be touched page by page on every query), then
+    copied out.
     """
     s, thr = pretest(light, tree.p0_max)
     p0, nrm = edge_faces(mesh)[:2]
@@ -47,13 +49,13 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     if out is None:
         out = _SCRATCH.setdefault(tree, np.empty(tree.order.size, dtype=np.int64))
     stats = np.zeros(N_STATS, dtype=np.int64)
-    threads = numba.get_num_threads()
-    split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
     start, sides = mesh.edge_sides
-    k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout, tree.order,
-              tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
-              np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
-              split, threads)  # fmt: skip
+    with fitted() as threads:  # the cores free now (silcount.threads)
+        split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
+        k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout,
+                  tree.order, tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
+                  np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
+                  split, threads)  # fmt: skip
     steps = dict(zip(STEP_NAMES[:-1], stats[: len(STEP_NAMES) - 1].tolist(), strict=True))
     steps["add"] = int(k)
     return out[:k].copy(), steps, int(stats[TIES])
