@@ -61,3 +61,22 @@ def test_fitted_never_raises_the_callers_count(loadavg):
 
 def test_passive_wait_is_the_default():
     assert os.environ.get("OMP_WAIT_POLICY") == "passive"  # set by import silcount unless the user chose
+
+
+def test_detect_runs_its_kernels_on_the_free_cores(monkeypatch):
+    import silcount
+    from silcount.detectors import reference
+
+    seen: list[int] = []
+    engine = reference._fast
+
+    def spy(mesh, light):
+        seen.append(numba.get_num_threads())
+        return engine(mesh, light)
+
+    monkeypatch.setattr(reference, "_fast", spy)
+    monkeypatch.setattr(threads, "free_cores", lambda: 1)  # another process holds every other core
+    before = numba.get_num_threads()
+    mesh = silcount.builtin_mesh("torus")
+    silcount.detect(mesh, silcount.DirectionalLight((0.0, 0.0, 1.0)), "reference")
+    assert seen == [1] and numba.get_num_threads() == before
