@@ -2,11 +2,12 @@
 
 numba's ``omp`` layer splits a ``prange`` loop evenly between its threads and waits for the last one.  On a
 machine where another process holds a core, one of two threads waits for the scheduler's next time slice
-(milliseconds) while the other finishes: with the default spinning wait, a 0.5 ms hierarchy query took
-100-300 ms and the 1.04 M-face reference query 16x its one-thread time (``benchmarks/busy.py``,
-docs/performance.md, "Busy machines").  ``silcount/__init__.py`` therefore asks the OpenMP runtime for a
-passive wait (``OMP_WAIT_POLICY=passive``: an idle pool thread sleeps and leaves its core to others), and
-:func:`fitted` lowers the thread count of one call to the cores that are free at its start.
+(milliseconds) while the other finishes: with the default spinning wait and a spinning process beside it,
+a 1.9 ms gaussmap ``detect`` of the 1.04 M-face bunny took 230 ms and the reference kernel 16x its one-thread
+time (load 3.3; ``benchmarks/busy.py``, docs/performance.md, "Busy machines").  ``silcount/__init__.py``
+therefore asks the OpenMP runtime for a passive wait (``OMP_WAIT_POLICY=passive``: an idle pool thread
+sleeps and leaves its core to others), and :func:`fitted` lowers the thread count of one call to the cores
+that are free at its start.
 
 "Free" is read from the kernel's count of runnable threads (``/proc/loadavg``'s fourth field, which
 counts the caller itself): the cores this process may use (``os.sched_getaffinity``) minus the other
