@@ -55,6 +55,20 @@ def _numba_cache_default() -> None:
 
 _numba_cache_default()
 
+
+def _passive_wait_default() -> None:
+    """Ask the OpenMP runtime under numba's ``omp`` layer to let idle pool threads sleep unless the user chose.
+
+    Set before numba loads the layer (on the first parallel kernel), which reads it once.  With the default
+    (spinning) wait, a pool thread that finished its share spins on its core until the others reach the
+    barrier; on a busy machine that took the core from the very thread it waited for.  The numbers are in
+    docs/performance.md, "Busy machines"; :mod:`silcount.threads` does the rest.
+    """
+    os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+
+_passive_wait_default()
+
 # public name -> the module that defines it
 _LAZY: dict[str, str] = {
     "DETECTORS": "silcount.detectors",

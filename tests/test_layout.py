@@ -25,7 +25,7 @@ PKG = Path(__file__).resolve().parent.parent / "silcount"
 
 LAYERS: list[tuple[str, ...]] = [
     ("silcount.errors", "silcount.version", "silcount.options"),
-    ("silcount.atomic", "silcount.progress"),  # atomic raises silcount.errors' UnwritableOutput
+    ("silcount.atomic", "silcount.progress", "silcount.threads"),  # atomic raises silcount.errors' UnwritableOutput
     ("silcount.plots", "silcount.counting", "silcount.mesh"),  # independent of each other
     ("silcount.detectors",),
     ("silcount.render", "silcount.study", "silcount.calibrate"),  # the measurements, independent of each other

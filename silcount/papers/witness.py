@@ -46,7 +46,7 @@ from silcount.detectors.adjacency import facing_flags
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh, from_polygons
 from silcount.mesh.shapes import icosahedron, icosphere, plane
-from silcount.papers.growth import Exponent, fit_with_interval
+from silcount.papers.growth import Exponent, measure_exponent
 
 CLOSED_SIZES = (2, 3, 4, 5)  # icosphere subdivisions: 320 .. 20480 faces
 STRIP_SIZES = (1000, 2000, 4000, 8000, 16000)  # cells of the strip: 2000 .. 32000 faces
@@ -102,13 +102,12 @@ def total_true(detector: str, mesh: Mesh, light: Light) -> int:
 
 
 def family_exponent(detector: str, family: str) -> Exponent:
-    """The fitted exponent (95% interval) of ``detector``'s total true operations vs faces on a family."""
+    """The fitted exponent (95% interval) and class of ``detector``'s total true operations vs faces on a family."""
     build, what = FAMILIES[family]
     runs = build()
     faces = [m.n_faces for m, _ in runs]
-    b, lo, hi = fit_with_interval(faces, [total_true(detector, m, light) for m, light in runs])
     source = f"witness family '{family}': {what}; F = {faces[0]} .. {faces[-1]}, fast engine"
-    return Exponent(detector, "true", b, lo, hi, len(runs), source)
+    return measure_exponent(detector, "true", faces, [total_true(detector, m, light) for m, light in runs], source)
 
 
 SEARCH_SEED = 0
@@ -120,8 +119,8 @@ HAND_BUILT = {"ta": ("closed",)}  # detector -> its hand-built families (FAMILIE
 def found_family_exponent(detector: str) -> Exponent | None:
     """The fastest-growing family the worst-case search finds for ``detector``
     (:func:`silcount.worstcase.goals.family`, seed :data:`SEARCH_SEED`, :data:`FAMILY_BUDGET` evaluations, its
-    best rule grown), its series refitted as the hand-built ones are (:func:`fit_with_interval`); ``None`` if
-    no family spans two decades."""
+    best rule grown), its series fitted and classed as the hand-built ones are (:func:`measure_exponent`);
+    ``None`` if no family spans two decades."""
     from silcount.worstcase.goals import family
     from silcount.worstcase.objective import Measure
 
@@ -129,13 +128,12 @@ def found_family_exponent(detector: str) -> Exponent | None:
     n = found.numbers
     if not found.found:
         return None
-    b, lo, hi = fit_with_interval(n["faces"], n["costs"])
     source = (
         f"worst-case search family: {n['rule']}; found by silcount's search (seed {SEARCH_SEED}, "
         f"{found.evaluations} of {FAMILY_BUDGET} evaluations, the best rule grown), not built by hand; "
         f"F = {n['faces'][0]} .. {n['faces'][-1]}, fast engine"
     )
-    return Exponent(detector, "true", b, lo, hi, len(n["faces"]), source)
+    return measure_exponent(detector, "true", n["faces"], n["costs"], source)
 
 
 @cache

@@ -50,9 +50,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba import njit, prange
+
+from silcount.threads import fitted
 
 DEPTH, ZPASS, ZFAIL = 0, 1, 2
 SUBPIXEL = 256
@@ -327,7 +328,8 @@ def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part
 
 
 def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None) -> None:
-    """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's)."""
+    """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's threads
+    that have a free core, :func:`silcount.threads.fitted`)."""
     T = clip.shape[0]
     X = np.empty((T, _MAXV), dtype=np.int64)
     Y = np.empty((T, _MAXV), dtype=np.int64)
@@ -338,12 +340,13 @@ def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None)
     H, W = depth.shape
     if T:
         _prepare(clip, W, H, X, Y, Z, nv, area, rows)
-        parts = parts or numba.get_num_threads()
-        if parts == 1:
-            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1)
-        else:
-            bands = min(H, BANDS_PER_PART * parts)
-            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands)
+        with fitted() as threads:  # the cores free now (silcount.threads)
+            parts = parts or threads
+            if parts == 1:
+                _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1)
+            else:
+                bands = min(H, BANDS_PER_PART * parts)
+                _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands)
 
 
 def new_buffers(width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
