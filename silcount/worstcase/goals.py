@@ -3,8 +3,8 @@
 * :func:`exceed`: an execution whose cost exceeds a bound at the mesh's own parameters (the upper-bound check,
   ``docs/claims.md`` rule 7), shrunk to the smallest mesh of the generators that still exceeds it;
 * :func:`family`: rules (a genome without its level) searched by their local exponent at small sizes,
-  the best grown over at least two decades of faces and fitted (:func:`silcount.study.fits.power_fit`, exponent
-  and 95 % bootstrap interval), as Singularity (FSE 2018) grows input patterns;
+  the best grown over at least two decades of faces and fitted (:func:`silcount.study.fits.power_fit`, exponent,
+  95 % bootstrap interval and complexity class), as Singularity (FSE 2018) grows input patterns;
 * :func:`per_output`: for output-sensitive detectors (``gaussmap``, ``cones``), the largest fraction of the
   edges ``E`` tested (``edge_test / E``, the reference scan tests all ``E``), with nodes and edges tested per
   silhouette edge.
@@ -174,6 +174,7 @@ def family(
                 "local": s.score,
                 "alpha": fit["alpha"],
                 "ci": fit["alpha_ci"],
+                "class": fit["classes"],
                 "faces": [f for f, _ in series],
                 "costs": [c for _, c in series],
                 "decades": decades,
@@ -184,7 +185,9 @@ def family(
     valid = [r for r in rows if r["alpha"] is not None and r["decades"] >= 2.0]
     best = max(valid, key=lambda r: r["alpha"]) if valid else None
     numbers = (
-        {} if best is None else {k: best[k] for k in ("rule", "alpha", "ci", "faces", "costs", "decades", "local")}
+        {}
+        if best is None
+        else {k: best[k] for k in ("rule", "alpha", "ci", "class", "faces", "costs", "decades", "local")}
     )
     return Outcome(
         "family",

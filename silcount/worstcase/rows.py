@@ -40,6 +40,7 @@ def row(detector: str, budget: int, seed: int = 0, grow: int = 3) -> dict:
         "typical": typical(detector),
         "worst": n.get("alpha"),
         "worst_ci": n.get("ci"),
+        "worst_class": n.get("class"),
         "worst_rule": n.get("rule", ""),
         "budget": budget,
     }
@@ -62,9 +63,9 @@ def rows(budget: int, seed: int = 0, grow: int = 3) -> list[dict]:
 
 def markdown(table: list[dict]) -> str:
     lines = [
-        "| detector | typical exponent | worst exponent found [95 % CI] | worst family | worst fraction of E tested "
-        "| edges / nodes tested per silhouette edge | mesh and light |",
-        "|---|---:|---:|---|---:|---:|---|",
+        "| detector | typical exponent | worst exponent found [95 % CI] | its class (Akaike weight) | worst family "
+        "| worst fraction of E tested | edges / nodes tested per silhouette edge | mesh and light |",
+        "|---|---:|---:|---|---|---:|---:|---|",
     ]
     for r in table:
         ci = r["worst_ci"]
@@ -79,5 +80,7 @@ def markdown(table: list[dict]) -> str:
             else ""
         )
         where = r.get("mesh_and_light", "")
-        lines.append(f"| {r['detector']} | {typ} | {worst} | {r['worst_rule']} | {frac} | {per} | {where} |")
+        c = r.get("worst_class")
+        cls = f"{c['chosen']} ({c['weight']:.2f}; runner-up {c['runner_up']})" if c else ""
+        lines.append(f"| {r['detector']} | {typ} | {worst} | {cls} | {r['worst_rule']} | {frac} | {per} | {where} |")
     return "\n".join(lines) + "\n"
