@@ -17,7 +17,7 @@ one home:
 
 from __future__ import annotations
 
-RENDER_METHODS: tuple[str, ...] = ("zpass", "zfail", "planar", "raycast")
+RENDER_METHODS: tuple[str, ...] = ("zpass", "zfail", "pertriangle", "planar", "raycast")
 SHADOW_TESTS: tuple[str, ...] = ("nonzero", "parity")
 VOLUMES: tuple[str, ...] = ("infinite", "truncated", "sides")
 AUDIT_FORMATS: tuple[str, ...] = ("text", "md", "json")
