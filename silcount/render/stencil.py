@@ -258,8 +258,9 @@ def render_stencil(
     start = t0 = time.perf_counter()
     sd = depth if depth is not None else depth_pass(scene, camera)
     if depth is None:
+        log.events["depth"].update(dict(zip(COUNTS, sd.counts.tolist())))
         log.events["depth"].update(
-            pixels_cleared=2 * H * W, vertices_transformed=3 * len(sd.clip), **dict(zip(COUNTS, sd.counts.tolist()))
+            pixels_cleared=2 * H * W, vertices_transformed=3 * len(sd.clip), depth_writes=int(sd.counts[1])
         )
     log.seconds["depth"] += time.perf_counter() - t0
     caps = method == "pertriangle" or (method == "zfail" and volume != "sides")
