@@ -3,12 +3,15 @@ checked against properties on the shared scenes."""
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
+import jsonschema
 import numpy as np
+import pandas as pd
 import pytest
-from common import shared_scenes
+from common import run_cli, shared_scenes
 
 import silcount
 from silcount.detectors import detect
@@ -18,6 +21,8 @@ from silcount.render.raster import DEPTH, ZFAIL, rasterize
 from silcount.render.scene import Scene, SceneObject, load_scene
 from silcount.render.stages import COLUMNS, frame_stages
 from silcount.render.stencil import STAGES, render_stencil
+
+SCHEMAS = Path(__file__).resolve().parent.parent / "docs" / "schemas"
 
 
 def triangle_scene() -> Scene:
@@ -197,3 +202,61 @@ def test_truncated_volumes_are_refused():
         frame_stages(triangle_scene(), "zfail", volume="truncated")
     with pytest.raises(silcount.BadArgument, match="pertriangle"):
         render_stencil(triangle_scene(), "pertriangle", volume="sides")
+
+
+def _scene_file(tmp_path: Path) -> Path:
+    """:func:`triangle_scene` as a silcount-scene/1 file."""
+    sc = triangle_scene()
+    for obj in sc.objects:
+        lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in obj.mesh.vertices.tolist()]
+        lines += ["f " + " ".join(str(i + 1) for i in f) for f in obj.mesh.faces.tolist()]
+        (tmp_path / f"{obj.name}.obj").write_text("\n".join(lines) + "\n")
+    doc = {
+        "spec": "silcount-scene/1",
+        "resolution": [8, 8],
+        "camera": {"eye": [0, 10, 0], "target": [0, 0, 0], "up": [0, 0, -1], "fov_y_deg": sc.fov_y_deg, "near": 0.1},
+        "light": {"position": [0, 8, 0]},
+        "objects": [{"name": o.name, "mesh": f"{o.name}.obj", "casts_shadow": o.casts_shadow} for o in sc.objects],
+    }
+    path = tmp_path / "triangle.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".json", ".parquet"])
+def test_render_writes_the_stage_table(tmp_path, suffix):
+    scene = _scene_file(tmp_path)
+    out = tmp_path / "sub" / f"stages{suffix}"
+    rc, _, err = run_cli("render", str(scene), "--method", "pertriangle", "--out", str(tmp_path / "m.png"),
+                         "--stages", str(out))  # fmt: skip
+    assert rc == 0, err
+    if suffix == ".csv":
+        table = pd.read_csv(out, keep_default_na=False)
+    elif suffix == ".json":
+        doc = json.loads(out.read_text())
+        jsonschema.validate(doc, json.loads((SCHEMAS / "render-stages.schema.json").read_text()))
+        table = pd.DataFrame(doc)
+    else:
+        table = pd.read_parquet(out)
+    stencil = table.set_index("stage").loc["stencil"]
+    assert (stencil["fragments"], stencil["stencil_updates"], stencil["add"]) == (72, 57, 417)  # the hand count
+    assert sorted(p.name for p in out.parent.iterdir()) == [out.name]  # no temporary file left
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "words"),
+    [
+        (["--method", "raycast", "--stages", "s.csv"], 2, "--stages applies to zpass, zfail and pertriangle"),
+        (["--method", "zfail", "--stages", "s.txt"], 2, "extension must be one of .csv, .json, .parquet"),
+        (["--method", "zfail", "--volume", "truncated", "--stages", "s.csv"], 2, "not truncated"),
+        (["--method", "zfail", "--stages", "blocker/s.csv"], 3, "is a file, not a folder"),
+    ],
+)
+def test_render_stages_refuses_in_one_line(tmp_path, args, code, words):
+    scene = _scene_file(tmp_path)
+    (tmp_path / "blocker").write_text("")
+    argv = ["render", str(scene), "--out", str(tmp_path / "m.png")]
+    argv += [str(tmp_path / a) if a.startswith(("s.", "blocker")) else a for a in args]
+    rc, _, err = run_cli(*argv)
+    assert rc == code and words in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "m.png").exists()  # refused before the render

@@ -21,7 +21,7 @@ from silcount.render.camera import Camera
 from silcount.render.planar import planar_mask
 from silcount.render.raycast import raycast
 from silcount.render.scene import Scene
-from silcount.render.stencil import depth_pass, render_stencil
+from silcount.render.stencil import FrameLog, depth_pass, render_stencil
 
 
 @dataclass
@@ -32,6 +32,7 @@ class Rendered:
     eye_depth: np.ndarray
     messages: list[str] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)  # seconds per stage (stencil.STAGES)
+    log: FrameLog | None = None  # the stencil methods' stages (:mod:`.stages`)
 
 
 def render_method(
@@ -65,7 +66,13 @@ def render_method(
                 "counts from infinity and is unaffected)"
             )
     return Rendered(
-        res.mask, res.coverage, res.scene.tri_id, camera.eye_depth_from_ndc_z(res.scene.depth), messages, res.timings
+        res.mask,
+        res.coverage,
+        res.scene.tri_id,
+        camera.eye_depth_from_ndc_z(res.scene.depth),
+        messages,
+        res.timings,
+        res.log,
     )
 
 

@@ -42,16 +42,20 @@ around each stage; ``frame_seconds`` the whole frame (every row carries it).
 
 from __future__ import annotations
 
+import json
 from collections import Counter
+from pathlib import Path
 
 import pandas as pd
 
+from silcount.atomic import atomic_path, write_text
 from silcount.counting.arithmetic import KINDS
 from silcount.detectors.base import visibility_true_cost
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
+from silcount.options import STAGE_FORMATS
 from silcount.render.scene import Scene
-from silcount.render.stencil import STAGES, FrameLog, StencilResult, render_stencil
+from silcount.render.stencil import STAGES, FrameLog, render_stencil
 
 COSTS: dict[str, dict[str, int]] = {
     "vertices_transformed": {"mul": 16, "add": 12},
@@ -90,9 +94,9 @@ def stage_counts(log: FrameLog, light: Light) -> dict[str, Counter]:
     return out
 
 
-def stage_table(res: StencilResult, light: Light, method: str, detector: str) -> pd.DataFrame:
-    """One row per stage (:data:`COLUMNS`) of a rendered frame."""
-    log, counts = res.log, stage_counts(res.log, light)
+def stage_table(log: FrameLog, light: Light, method: str, detector: str) -> pd.DataFrame:
+    """One row per stage (:data:`COLUMNS`) of a rendered frame's log."""
+    counts = stage_counts(log, light)
     rows = []
     for stage in STAGES:
         events = log.events[stage]
@@ -103,6 +107,20 @@ def stage_table(res: StencilResult, light: Light, method: str, detector: str) ->
         row |= {"seconds": log.seconds[stage], "frame_seconds": log.frame_seconds}
         rows.append(row)
     return pd.DataFrame(rows, columns=list(COLUMNS))
+
+
+def write_table(table: pd.DataFrame, path: Path) -> Path:
+    """Write a stage table by ``path``'s extension (:data:`silcount.options.STAGE_FORMATS`), atomically."""
+    suffix = path.suffix.lower()
+    if suffix not in STAGE_FORMATS:
+        raise BadArgument(f"{path}: a stage table is written as {', '.join(STAGE_FORMATS)}, by its extension")
+    if suffix == ".csv":
+        return write_text(path, table.to_csv(index=False))
+    if suffix == ".json":
+        return write_text(path, json.dumps(table.to_dict(orient="records"), indent=2) + "\n")
+    with atomic_path(path) as tmp:
+        table.to_parquet(tmp, engine="pyarrow", index=False)
+    return path
 
 
 def frame_stages(
@@ -125,7 +143,7 @@ def frame_stages(
     if resolution is not None:
         scene = scene.with_resolution(*resolution)
     res = render_stencil(scene, method, detector, variant, shadow_test=shadow_test, volume=volume)
-    return stage_table(res, scene.light, method, "" if method == "pertriangle" else detector)
+    return stage_table(res.log, scene.light, method, "" if method == "pertriangle" else detector)
 
 
-__all__ = ["COLUMNS", "COSTS", "costs", "frame_stages", "stage_counts", "stage_table"]
+__all__ = ["COLUMNS", "COSTS", "costs", "frame_stages", "stage_counts", "stage_table", "write_table"]
