@@ -31,7 +31,7 @@ class Rendered:
     tri_id: np.ndarray
     eye_depth: np.ndarray
     messages: list[str] = field(default_factory=list)
-    timings: dict[str, float] = field(default_factory=dict)  # seconds per stage (stencil.STAGES)
+    timings: dict[str, float] = field(default_factory=dict)  # seconds: silhouette, volume, raster
     log: FrameLog | None = None  # the stencil methods' stages (:mod:`.stages`)
 
 

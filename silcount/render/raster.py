@@ -236,7 +236,7 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
     r1 = min(row_hi, int(math.floor((max(y0, max(y1, y2)) - half) / SUBPIXEL)))
     if r0 > r1 or c0 > c1:
         return
-    fragments = passes = updates = 0
+    fragments = hits = 0  # hits: the fragments that write (DEPTH, ZPASS: passed; ZFAIL: failed)
     # top-left rule: an edge a->b owns its centres iff dy < 0, or dy == 0 and dx > 0
     b01 = 1 if (y1 - y0 < 0 or (y1 == y0 and x1 - x0 > 0)) else 0
     b12 = 1 if (y2 - y1 < 0 or (y2 == y1 and x2 - x1 > 0)) else 0
@@ -261,18 +261,18 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
             for c in range(lo, hi + 1):
                 z = (e12 * z0 + e20 * z1 + e01 * z2) * inv
                 passed = z < depth[r, c]
-                passes += passed
                 if mode == DEPTH:
                     if passed:
                         depth[r, c] = z
                         tri_id[r, c] = ident
+                        hits += 1
                 elif mode == ZPASS:
                     if passed:
                         stencil[r, c] += 1 if front else -1
-                        updates += 1
+                        hits += 1
                 elif not passed:
                     stencil[r, c] += -1 if front else 1
-                    updates += 1
+                    hits += 1
                 e01 += d01
                 e12 += d12
                 e20 += d20
@@ -286,8 +286,8 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
         if mc >= dc:
             qc, mc = qc + 1, mc - dc
     counts[0] += fragments
-    counts[1] += passes
-    counts[2] += updates
+    counts[1] += fragments - hits if mode == ZFAIL else hits
+    counts[2] += 0 if mode == DEPTH else hits
 
 
 @njit(cache=True)
