@@ -23,6 +23,10 @@ triangles, so its depth equals the stored depth bit for bit and ``LESS``
 fails there, which counts it, as z-fail needs.  Z-pass needs no caps, but
 it is wrong when the eye is inside a volume: the near plane cuts the
 volume, the entering faces are lost (:func:`eye_in_shadow` reports that).
+
+``pertriangle`` (issue 41) finds no silhouette: each light-facing triangle's own capped volume
+(:func:`.volumes.pertriangle_volume`), counted by z-fail.  Every frame logs its stages (:data:`STAGES`,
+:class:`FrameLog`): seconds and the events :mod:`.stages` turns into operation counts.
 """
 
 from __future__ import annotations
@@ -243,7 +247,8 @@ def render_stencil(
     ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`) or
     ``sides`` (infinite, without caps: z-fail as the EESD paper prints it, "like Z-pass algorithm except step 5
     and 6", its step 4 giving the silhouette's quads only; z-pass draws no caps either way); ``pertriangle``
-    takes ``infinite`` only.  The result's ``log`` holds each stage's seconds and events (:mod:`.stages`).
+    takes ``infinite`` only.  The result's ``log`` holds each stage's seconds and events (:mod:`.stages`); a
+    reused ``depth`` pass is not this frame's work, so its ``depth`` stage is empty.
     """
     check_choice("stencil method", method, METHODS)
     check_choice("shadow test", shadow_test, SHADOW_TESTS)
