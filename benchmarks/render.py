@@ -219,7 +219,7 @@ def resized(scenes: list[tuple[str, Path]], sizes: tuple[int, ...]):
 
 def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs: int) -> None:
     """Section 1d: silcount's frames and llvmpipe's, interleaved run by run; masks compared."""
-    from tests.oracles.gl_stencil import GLStencil
+    from silcount.render.opengl import GLFrame
 
     print(f"\n# The same frames on llvmpipe (OpenGL), best of {runs} interleaved runs, ms")
     print(
@@ -227,7 +227,7 @@ def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs
         f"{'silcount':>8} {'llvmpipe':>8} {'silcount/llvmpipe':>17}  masks"
     )
     for name, size, sc in resized(scenes, sizes):
-        gl = GLStencil(size, size)
+        gl = GLFrame(size, size)
         for method in ("zpass", "zfail"):
             res = render_stencil(sc, method)  # warm-up
             gl.set_scene(res.scene.clip)

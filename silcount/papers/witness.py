@@ -40,7 +40,7 @@ from silcount.detectors.adjacency import facing_flags
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh, from_polygons
 from silcount.mesh.shapes import icosahedron, icosphere, plane
-from silcount.papers.growth import Exponent, fit_with_interval
+from silcount.papers.growth import Exponent, measure_exponent
 
 CLOSED_SIZES = (2, 3, 4, 5)  # icosphere subdivisions: 320 .. 20480 faces
 STRIP_SIZES = (1000, 2000, 4000, 8000, 16000)  # cells of the strip: 2000 .. 32000 faces
@@ -96,13 +96,12 @@ def total_true(detector: str, mesh: Mesh, light: Light) -> int:
 
 
 def family_exponent(detector: str, family: str) -> Exponent:
-    """The fitted exponent (95% interval) of ``detector``'s total true operations vs faces on a family."""
+    """The fitted exponent (95% interval) and class of ``detector``'s total true operations vs faces on a family."""
     build, what = FAMILIES[family]
     runs = build()
     faces = [m.n_faces for m, _ in runs]
-    b, lo, hi = fit_with_interval(faces, [total_true(detector, m, light) for m, light in runs])
     source = f"witness family '{family}': {what}; F = {faces[0]} .. {faces[-1]}, fast engine"
-    return Exponent(detector, "true", b, lo, hi, len(runs), source)
+    return measure_exponent(detector, "true", faces, [total_true(detector, m, light) for m, light in runs], source)
 
 
 @cache
