@@ -260,3 +260,20 @@ def test_render_stages_refuses_in_one_line(tmp_path, args, code, words):
     rc, _, err = run_cli(*argv)
     assert rc == code and words in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "m.png").exists()  # refused before the render
+
+
+def test_software_counts_equal_the_gl_hand_count():
+    """The OpenGL side's hand scene (``test_render_opengl.hand_scene``; its docstring counts GL's samples
+    passed by hand: depth 67, stencil 13, lit 59).  The software frame draws the same samples: the depth
+    pass's 64 floor and 3 caster fragments all pass (67); z-fail's stencil updates are GL's samples passed
+    of its stencil pass (13); and the lit pass's visible samples less those in shadow are GL's lit samples
+    (59), per-triangle as GL draws it.  (The open triangle's silhouette volume has no dark cap: z-fail
+    with a detector misses the 4 updates of the samples that leave the volume through it, 9.)"""
+    from test_render_opengl import hand_scene
+
+    res = render_stencil(hand_scene(), "pertriangle")
+    table = frame_stages(hand_scene(), "pertriangle").set_index("stage")
+    assert res.log.events["depth"]["depth_passed"] == table.loc["depth", "fragments"] == 67
+    assert table.loc["stencil", "stencil_updates"] == 13
+    assert table.loc["lit", "fragments"] - int(res.mask.sum()) == 59
+    assert frame_stages(hand_scene(), "zfail").set_index("stage").loc["stencil", "stencil_updates"] == 9
