@@ -16,7 +16,8 @@ Detectors are added with ``silcount.register_detector(silcount.DetectorSpec(...)
 package's entry point in the group ``silcount.detectors`` (``docs/extending.md``), found on first use.
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
-(:mod:`silcount.study`).
+(:mod:`silcount.study`); ``silcount.frame_stages(scene, method, ...)`` counts and times a shadow-volume
+frame stage by stage (:mod:`silcount.render.stages`).
 """
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ _LAZY: dict[str, str] = {
     "corpus": "silcount.study",
     "DetectorSpec": "silcount.detectors.spec",
     "register_detector": "silcount.detectors.registry",
+    "frame_stages": "silcount.render.stages",
 }
 _LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
 
@@ -104,6 +106,7 @@ if TYPE_CHECKING:
     from silcount.mesh.shapes import builtin_mesh
     from silcount.papers.claims import claims_frame as claims
     from silcount.papers.tables import tables_frame as tables
+    from silcount.render.stages import frame_stages
     from silcount.study import corpus
 
 
@@ -134,6 +137,7 @@ __all__ = [
     "claims",
     "tables",
     "corpus",
+    "frame_stages",
     "load_mesh",
     "PointLight",
     "DirectionalLight",
