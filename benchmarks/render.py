@@ -63,7 +63,7 @@ from silcount.mesh import shapes
 from silcount.render import stencil
 from silcount.render.camera import Camera
 from silcount.render.masks import compare_masks
-from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.raster import COUNTS, DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
 from silcount.render.scene import load_scene
 from silcount.render.stencil import render_stencil
 from tests.oracles.render_baseline import rasterize_serial
@@ -77,10 +77,16 @@ PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EES
 }
 
 
+def baseline(*args) -> np.ndarray:
+    """The baseline rasteriser, in :func:`rasterize`'s signature: it counts nothing (:data:`COUNTS` all 0)."""
+    rasterize_serial(*args)
+    return np.zeros(len(COUNTS), dtype=np.int64)
+
+
 def rasterisers() -> dict[str, Callable[..., object]]:
     """The three rasterisers compared, by label."""
     return {
-        "baseline": rasterize_serial,
+        "baseline": baseline,
         "1 part": functools.partial(rasterize, parts=1),
         f"{numba.get_num_threads()} parts": rasterize,
     }

@@ -16,8 +16,9 @@ Detectors are added with ``silcount.register_detector(silcount.DetectorSpec(...)
 package's entry point in the group ``silcount.detectors`` (``docs/extending.md``), found on first use.
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
-(:mod:`silcount.study`); ``silcount.worst_case(detector, ...)`` searches for a worst case
-(:mod:`silcount.worstcase`).
+(:mod:`silcount.study`); ``silcount.frame_stages(scene, method, ...)`` counts and times a shadow-volume
+frame stage by stage (:mod:`silcount.render.stages`); ``silcount.worst_case(detector, ...)`` searches for a
+worst case (:mod:`silcount.worstcase`).
 """
 
 from __future__ import annotations
@@ -85,6 +86,7 @@ _LAZY: dict[str, str] = {
     "corpus": "silcount.study",
     "DetectorSpec": "silcount.detectors.spec",
     "register_detector": "silcount.detectors.registry",
+    "frame_stages": "silcount.render.stages",
     "worst_case": "silcount.worstcase",
 }
 _LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
@@ -106,6 +108,7 @@ if TYPE_CHECKING:
     from silcount.mesh.shapes import builtin_mesh
     from silcount.papers.claims import claims_frame as claims
     from silcount.papers.tables import tables_frame as tables
+    from silcount.render.stages import frame_stages
     from silcount.study import corpus
     from silcount.worstcase import worst_case
 
@@ -137,6 +140,7 @@ __all__ = [
     "claims",
     "tables",
     "corpus",
+    "frame_stages",
     "worst_case",
     "load_mesh",
     "PointLight",

@@ -8,7 +8,8 @@ one home:
 
 * :data:`RENDER_METHODS`, :data:`SHADOW_TESTS`, :data:`VOLUMES`: the mask
   methods of :mod:`silcount.render.methods` and the stencil paper's literal
-  steps of :mod:`silcount.render.stencil`;
+  steps of :mod:`silcount.render.stencil`; :data:`STAGE_FORMATS`: the files
+  ``render --stages`` writes (:mod:`silcount.render.stages`);
 * :data:`AUDIT_FORMATS`, :data:`DEFAULT_LIGHT_COUNT`, :data:`DEFAULT_SEED`:
   :mod:`silcount.audit`'s layouts and default random lights;
 * :data:`PAPER_HELP`: ``--paper DIR`` of `claims`, `tables`, `figures` and `audit`
@@ -17,7 +18,8 @@ one home:
 
 from __future__ import annotations
 
-RENDER_METHODS: tuple[str, ...] = ("zpass", "zfail", "planar", "raycast")
+RENDER_METHODS: tuple[str, ...] = ("zpass", "zfail", "pertriangle", "planar", "raycast")
+STAGE_FORMATS: tuple[str, ...] = (".csv", ".json", ".parquet")
 SHADOW_TESTS: tuple[str, ...] = ("nonzero", "parity")
 VOLUMES: tuple[str, ...] = ("infinite", "truncated", "sides")
 AUDIT_FORMATS: tuple[str, ...] = ("text", "md", "json")
