@@ -13,7 +13,8 @@ laws to silcount's measurements.
 
 Modules: :mod:`.work` (one file at one level, on a worker), :mod:`.subdivide`,
 :mod:`.schedule` (Dask), :mod:`.units` (a unit's time and memory), :mod:`.parts` (a unit split
-and joined), :mod:`.cache`, :mod:`.tables`, :mod:`.fits`,
+and joined), :mod:`.cache`, :mod:`.tables`, :mod:`.fits` (with :mod:`.classes`, the complexity class of
+each fitted series),
 :mod:`.figures`, :mod:`.output` (``--out DIR``), :mod:`.literature` and
 :mod:`.literature_page` (the papers' detectors beside ``gaussmap`` and ``cones``).
 """
