@@ -273,15 +273,17 @@ def collection_lines(profile: SweepProfile, sizes: np.ndarray | None) -> list[st
         "`silcount/study/units.py`), with `silcount corpus`'s default settings (64 directional lights, every "
         "detector, the plain loops timed), on one numba thread per worker:",
         "",
-        "| fit | alpha (95 % interval) | at 1 M faces |",
-        "|---|---|---|",
+        "| fit | alpha (95 % interval) | class (Akaike weight; runner-up) | at 1 M faces |",
+        "|---|---|---|---|",
     ]
     for what, unit in (("seconds", "s"), ("extra_bytes", "MiB")):
         f = model.fit_of("all", what)
         at = f["c"] * 1e6 ** f["alpha"] / (2**20 if unit == "MiB" else 1)
         ci = f["alpha_ci"] or [float("nan")] * 2
         name = "time" if what == "seconds" else "peak memory above the warm worker's"
-        lines.append(f"| {name} | {f['alpha']:.2f} ({ci[0]:.2f}-{ci[1]:.2f}) | {at:,.1f} {unit} |")
+        k = f.get("classes")  # silcount.study.classes, over the same points
+        cls = f"{k['chosen']} ({k['weight']:.2f}; {k['runner_up']} {k['runner_up_weight']:.2f})" if k else "-"
+        lines.append(f"| {name} | {f['alpha']:.2f} ({ci[0]:.2f}-{ci[1]:.2f}) | {cls} | {at:,.1f} {unit} |")
     largest = model.peak_bytes(float(big), settings)
     loads = [u["load_1min"] for u in model.units if "load_1min" in u]
     a = model.about

@@ -24,9 +24,10 @@ Estimates (docs/corpus.md, "Memory"):
 * the peak memory is the warm worker's (the largest measured) plus :data:`MARGIN` times the fit, a margin
   that covers every measured unit (``tests/test_units.py`` checks it against the committed data).
 
-Classes of mesh (the class selection of the "Worst cases found" issue) are not distinguished yet: every
-fit is over all the measured meshes.  :func:`UnitModel.fit_of` is the one place a class would choose its
-own fit.
+Each fit carries the complexity class of its points (``power_fit``'s ``classes``,
+:mod:`silcount.study.classes`), which ``scale.md`` shows; the estimates use the power law.  Kinds of
+mesh are not distinguished: every fit is over all the measured meshes, and :func:`UnitModel.fit_of` is
+the one place a kind would choose its own fit.
 """
 
 from __future__ import annotations
