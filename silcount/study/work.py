@@ -61,7 +61,7 @@ from __future__ import annotations
 import hashlib
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import cache
 from pathlib import Path
 
@@ -115,6 +115,15 @@ class Settings:
     def as_dict(self) -> dict:
         d = asdict(self)
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+
+@dataclass(frozen=True)
+class Part:
+    """A share of a unit (:mod:`silcount.study.parts`): some of its detectors, under its lights ``lo:hi``."""
+
+    detectors: tuple[str, ...]
+    lo: int
+    hi: int
 
 
 def sha256_words(sha256: str) -> list[int]:
@@ -299,7 +308,11 @@ def _time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tupl
     return out, errors
 
 
-def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> dict:
+def _audit(
+    mesh: Mesh, level: int, lights: list[Light], settings: Settings, first: int = 0, timed: list[Light] | None = None
+) -> dict:
+    """The unit's record and rows; ``lights`` are the unit's lights ``first:`` (a part's), ``timed`` those whose
+    first ones are timed (default ``lights``)."""
     from silcount.study.subdivide import subdivide
 
     mesh = subdivide(mesh, level)
@@ -311,7 +324,7 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["silhouette_edges_mean"] = float(silhouettes.mean())
     record["silhouette_edges_std"] = float(silhouettes.std())
     lit = [light_record(light) for light in lights]
-    per_light: dict[str, list] = {"light": list(range(len(lights)))}
+    per_light: dict[str, list] = {"light": list(range(first, first + len(lights)))}
     per_light.update({k: [r[k] for r in lit] for k in lit[0]} if lit else {})
     per_light["reference_edges"] = [int(n) for n in silhouettes]
     runs: list[tuple[dict[str, list], list[tuple[str, ...]]]] = []
@@ -329,9 +342,11 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
     record["build"] = builds
     by_kind: dict[str, dict[str, float | None]] = {}
     record["time_errors"] = []
-    kinds = list(dict.fromkeys(r["light_kind"] for r in lit))
+    timed = lights if timed is None else timed
+    timed_kinds = [light_record(light)["light_kind"] for light in timed]
+    kinds = list(dict.fromkeys(timed_kinds))
     for kind in kinds:
-        same = [light for light, r in zip(lights, lit, strict=True) if r["light_kind"] == kind]
+        same = [light for light, k in zip(timed, timed_kinds, strict=True) if k == kind]
         by_kind[kind], errors = time_per_light(mesh, same, settings)
         record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
     record["time_by_light_kind"] = by_kind
@@ -352,10 +367,12 @@ def row_columns(rows: list[dict]) -> dict:
     return {"columns": names, "values": [[row.get(k) for row in rows] for k in names]}
 
 
-def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
+def audit_task(label: str, data: bytes, level: int, settings: Settings, part: Part | None = None) -> dict:
     """Audit one file's bytes at one subdivision level; ``{"mesh", "rows", "error"}``, never raising for bad input.
 
-    ``rows`` is columnar (:func:`row_columns`).
+    ``rows`` is columnar (:func:`row_columns`).  A ``part`` runs only its detectors under its lights (the
+    reference always runs; the first lights are timed only in the part that starts at light 0), and
+    :func:`silcount.study.parts.merge` joins the parts into the unit's result.
 
     ``label`` is the file's name in the sweep (its suffix picks the loader; it
     replaces the temporary path in error messages).
@@ -369,7 +386,12 @@ def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
                 source = load_mesh(path)
             except SilcountError as exc:
                 raise type(exc)(str(exc).replace(str(path), label)) from None
-        result = _audit(source, level, mesh_lights(source, settings, sha), settings)
+        lights = mesh_lights(source, settings, sha)
+        if part is None:
+            result = _audit(source, level, lights, settings)
+        else:
+            own = replace(settings, detectors=part.detectors)
+            result = _audit(source, level, lights[part.lo : part.hi], own, part.lo, lights if part.lo == 0 else [])
         result["error"] = None
     except Exception as exc:  # recorded as this mesh's error row, never dropped: the sweep goes on
         text = " ".join(str(exc).split()) or type(exc).__name__
