@@ -61,6 +61,7 @@ from __future__ import annotations
 import hashlib
 import tempfile
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from functools import cache
 from pathlib import Path
@@ -179,7 +180,11 @@ def light_record(light: Light) -> dict:
 
 
 def run_columns(
-    results: list[Silhouette], refs: list[Silhouette], settings: Settings, profiles: dict[str, Profile], edges: int
+    results: Sequence[Silhouette],
+    refs: Sequence[Silhouette],
+    settings: Settings,
+    profiles: dict[str, Profile],
+    edges: int,
 ) -> dict[str, list]:
     """One detector's result under each light, as columns (name -> one value per light): edges, agreement
     with the reference ``refs[i]`` (the same light's), edges visited (of ``edges``), steps, tallies and cycles
@@ -208,7 +213,7 @@ def run_columns(
     return cols
 
 
-def row_names(cols: dict[str, list], results: list[Silhouette]) -> list[tuple[str, ...]]:
+def row_names(cols: dict[str, list], results: Sequence[Silhouette]) -> list[tuple[str, ...]]:
     """Each light's row keys, sorted: the run's ``cols`` but the ``steps_`` its run did not count."""
     own: dict[tuple[str, ...], tuple[str, ...]] = {}  # by the steps' names: one entry in practice
     out = []
