@@ -241,6 +241,7 @@ def make_batch(
         params.update(paper_params)
     step_arr, step_names = columns_of(steps, n)
     true_arr, kinds = columns_of(true, n, KINDS)
+    np.maximum(true_arr[:, : len(KINDS)], 0, out=true_arr[:, : len(KINDS)])  # every light's tally has KINDS
     return SilhouetteBatch(
         detector=detector,
         variant=variant,

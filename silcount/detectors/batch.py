@@ -214,6 +214,25 @@ def columns_of(
     return out, names
 
 
+def merge_groups(
+    n: int, parts: Sequence[tuple[np.ndarray, Mapping[str, np.ndarray | int]]], first: tuple[str, ...] = ()
+) -> dict[str, np.ndarray]:
+    """Counts computed per group of lights (``(rows, name -> counts)``: the lights of one kind) as name -> (n,)
+    int64 in light order; a name another group lacks is ``ABSENT`` there, but the names of ``first`` are 0."""
+    names = dict.fromkeys([*first, *(k for _, counts in parts for k in counts)])
+    out = {k: np.full(n, 0 if k in first else ABSENT, dtype=np.int64) for k in names}
+    for rows, counts in parts:
+        for k, v in counts.items():
+            out[k][rows] = v
+    return out
+
+
+def rows_of(dicts: Sequence[Mapping[str, int]]) -> dict[str, np.ndarray]:
+    """Per-light ``name -> count`` dicts as name -> (n,) int64, ``ABSENT`` where a light lacks the name."""
+    arr, names = counts_of(dicts)
+    return {k: arr[:, j] for j, k in enumerate(names)}
+
+
 @njit(cache=True, nogil=True)
 def _common_many(a_off, a_ids, b_off, b_ids):  # pragma: no cover - compiled
     """Per row, how many ids two CSR arrays of ascending distinct ids share: one merge pass a row."""
@@ -244,4 +263,13 @@ def common_many(found: SilhouetteBatch, reference: SilhouetteBatch) -> np.ndarra
     return _common_many(found.offsets, found.ids, reference.offsets, reference.ids)
 
 
-__all__ = ["ABSENT", "SilhouetteBatch", "columns_of", "common_many", "counts_of", "csr_offsets"]
+__all__ = [
+    "ABSENT",
+    "SilhouetteBatch",
+    "columns_of",
+    "common_many",
+    "counts_of",
+    "csr_offsets",
+    "merge_groups",
+    "rows_of",
+]
