@@ -5,8 +5,9 @@
 private temporary file, loads it with :func:`silcount.mesh.io.load_mesh`,
 subdivides it (:mod:`silcount.study.subdivide`) and runs every requested
 detector under all the lights at once with :func:`silcount.detectors.detect_many`
-(identical to :func:`~silcount.detectors.detect` light by light; the reference,
-EESD, TA and HSD batch their lights, see its docstring).  It returns
+(identical to :func:`~silcount.detectors.detect` light by light; every built-in
+batches its lights, see its docstring), and builds its rows from each batch's
+arrays (:class:`silcount.detectors.SilhouetteBatch`), with no object per light.  It returns
 plain JSON-ready data and never raises for a bad mesh: the failure becomes the
 result's one-line ``error`` (so one file never stops a sweep).
 
