@@ -177,3 +177,19 @@ def test_a_list_of_silhouettes_becomes_a_batch_of_the_same_objects():
     assert batch.step("search_S").tolist() == [r.steps["search_S"] for r in results]
     assert batch.ties.tolist() == [r.ties for r in results]
     assert SilhouetteBatch.of_silhouettes([]) == []
+
+
+def test_a_corpus_unit_reads_the_arrays_and_makes_no_silhouette(monkeypatch):
+    """The sweep's unit builds its rows from every built-in's batch arrays: no ``batch[i]``, no ``Silhouette``."""
+    from silcount.detectors import batch as batch_module
+    from silcount.detectors import result
+    from silcount.study.work import Settings, _audit
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a Silhouette was made")
+
+    monkeypatch.setattr(batch_module.SilhouetteBatch, "__getitem__", refuse)
+    monkeypatch.setattr(result.Silhouette, "__init__", refuse)
+    lights = [PointLight((3.0, 1.0, 2.0)), DirectionalLight((0.2, -1.0, 0.4))]
+    got = _audit(MESHES["torus"], 0, lights, Settings(lights=2, light_kind="both", timing=False))
+    assert len(got["rows"]["values"][0]) == 2 * len(DETECTORS)
