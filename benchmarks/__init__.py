@@ -12,6 +12,7 @@
 | render          | the stencil renderer's frames against the 318ab63 rasteriser (and llvmpipe)    |
 | render_process  | ``silcount render`` as whole processes, this tree against 318ab63              |
 | report          | ``silcount report`` on this tree and a baseline, outputs compared byte for byte |
+| classes         | class selection on synthetic series with the corpus's sizes and scatter        |
 
 :mod:`benchmarks.common` holds what they share: the bunny (:func:`~benchmarks.common.build_mesh`), the
 lights (:func:`~benchmarks.common.lights`, on :func:`silcount.mesh.lights.random_directions`), the best-of

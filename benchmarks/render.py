@@ -63,7 +63,7 @@ from silcount.mesh import shapes
 from silcount.render import stencil
 from silcount.render.camera import Camera
 from silcount.render.masks import compare_masks
-from silcount.render.raster import DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.raster import COUNTS, DEPTH, ZFAIL, homogeneous, new_buffers, rasterize, to_clip
 from silcount.render.scene import load_scene
 from silcount.render.stencil import render_stencil
 from tests.oracles.render_baseline import rasterize_serial
@@ -77,10 +77,16 @@ PAPER_FPS = {  # HSD 2011 Sec. VII: HSD 75.53 vs at most 67.54 conventional; EES
 }
 
 
+def baseline(*args) -> np.ndarray:
+    """The baseline rasteriser, in :func:`rasterize`'s signature: it counts nothing (:data:`COUNTS` all 0)."""
+    rasterize_serial(*args)
+    return np.zeros(len(COUNTS), dtype=np.int64)
+
+
 def rasterisers() -> dict[str, Callable[..., object]]:
     """The three rasterisers compared, by label."""
     return {
-        "baseline": rasterize_serial,
+        "baseline": baseline,
         "1 part": functools.partial(rasterize, parts=1),
         f"{numba.get_num_threads()} parts": rasterize,
     }
@@ -213,7 +219,7 @@ def resized(scenes: list[tuple[str, Path]], sizes: tuple[int, ...]):
 
 def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs: int) -> None:
     """Section 1d: silcount's frames and llvmpipe's, interleaved run by run; masks compared."""
-    from tests.oracles.gl_stencil import GLStencil
+    from silcount.render.opengl import GLFrame
 
     print(f"\n# The same frames on llvmpipe (OpenGL), best of {runs} interleaved runs, ms")
     print(
@@ -221,7 +227,7 @@ def llvmpipe_frames(scenes: list[tuple[str, Path]], sizes: tuple[int, ...], runs
         f"{'silcount':>8} {'llvmpipe':>8} {'silcount/llvmpipe':>17}  masks"
     )
     for name, size, sc in resized(scenes, sizes):
-        gl = GLStencil(size, size)
+        gl = GLFrame(size, size)
         for method in ("zpass", "zfail"):
             res = render_stencil(sc, method)  # warm-up
             gl.set_scene(res.scene.clip)

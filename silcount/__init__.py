@@ -16,7 +16,9 @@ Detectors are added with ``silcount.register_detector(silcount.DetectorSpec(...)
 package's entry point in the group ``silcount.detectors`` (``docs/extending.md``), found on first use.
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
-(:mod:`silcount.study`).
+(:mod:`silcount.study`); ``silcount.frame_stages(scene, method, ...)`` counts and times a shadow-volume
+frame stage by stage (:mod:`silcount.render.stages`); ``silcount.worst_case(detector, ...)`` searches for a
+worst case (:mod:`silcount.worstcase`).
 """
 
 from __future__ import annotations
@@ -54,6 +56,20 @@ def _numba_cache_default() -> None:
 
 _numba_cache_default()
 
+
+def _passive_wait_default() -> None:
+    """Ask the OpenMP runtime under numba's ``omp`` layer to let idle pool threads sleep unless the user chose.
+
+    Set before numba loads the layer (on the first parallel kernel), which reads it once.  With the default
+    (spinning) wait, a pool thread that finished its share spins on its core until the others reach the
+    barrier; on a busy machine that took the core from the very thread it waited for.  The numbers are in
+    docs/performance.md, "Busy machines"; :mod:`silcount.threads` does the rest.
+    """
+    os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+
+_passive_wait_default()
+
 # public name -> the module that defines it
 _LAZY: dict[str, str] = {
     "DETECTORS": "silcount.detectors",
@@ -70,6 +86,8 @@ _LAZY: dict[str, str] = {
     "corpus": "silcount.study",
     "DetectorSpec": "silcount.detectors.spec",
     "register_detector": "silcount.detectors.registry",
+    "frame_stages": "silcount.render.stages",
+    "worst_case": "silcount.worstcase",
 }
 _LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
 
@@ -90,7 +108,9 @@ if TYPE_CHECKING:
     from silcount.mesh.shapes import builtin_mesh
     from silcount.papers.claims import claims_frame as claims
     from silcount.papers.tables import tables_frame as tables
+    from silcount.render.stages import frame_stages
     from silcount.study import corpus
+    from silcount.worstcase import worst_case
 
 
 def __getattr__(name: str) -> Any:
@@ -120,6 +140,8 @@ __all__ = [
     "claims",
     "tables",
     "corpus",
+    "frame_stages",
+    "worst_case",
     "load_mesh",
     "PointLight",
     "DirectionalLight",

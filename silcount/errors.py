@@ -73,3 +73,8 @@ class TooMuchWork(InvalidMesh):
             f"{what}: over {limit:,} elementary tests ({done:,} done when stopped); "
             "set --max-work or $SILCOUNT_MAX_WORK to raise the limit"
         )
+
+
+class NoOpenGL(SilcountError):
+    """The OpenGL frame cannot run here: the ``gl`` extra (moderngl, PyOpenGL) is not installed, no headless EGL
+    context opens, or the driver refuses the framebuffer or the shaders (:mod:`silcount.render.opengl`)."""

@@ -23,7 +23,7 @@ from silcount.detectors import DETECTORS
 from silcount.render import planar, stencil
 from silcount.render.builtin import BUILTIN, builtin_scene
 from silcount.render.methods import render_method
-from silcount.render.raster import DEPTH, ZFAIL, ZPASS, new_buffers, rasterize
+from silcount.render.raster import COUNTS, DEPTH, ZFAIL, ZPASS, new_buffers, rasterize
 from silcount.render.scene import load_scene
 
 REPO = Path(__file__).resolve().parents[1]
@@ -33,7 +33,9 @@ SHARED = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and
 
 
 def _serial(clip, ids, mode, depth, st, tri_id):
+    """The baseline, in :func:`rasterize`'s signature; it counts nothing (these tests compare buffers)."""
     rasterize_serial(clip, ids, mode, depth, st, tri_id)
+    return np.zeros(len(COUNTS), dtype=np.int64)
 
 
 def _scenes():

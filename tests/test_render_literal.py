@@ -184,7 +184,7 @@ def test_cli_shadow_test_and_volume(tmp_path, capsys):
     expected = render_method(load_scene(s), "zfail", shadow_test="parity").mask
     assert np.array_equal(read_mask(out), expected)
     assert main(["render", s, "--method", "raycast", "--volume", "truncated", "--out", str(out)]) == 2
-    assert "--volume apply to zpass and zfail" in capsys.readouterr().err
+    assert "--volume apply to zpass, zfail and pertriangle" in capsys.readouterr().err
 
 
 def test_render_report_summary_follows_its_schema(tmp_path, monkeypatch):

@@ -45,6 +45,20 @@ def test_zfail_reference_matches_raycast(name):
     assert t.mask.sum() > 1000  # there is a shadow to get right
 
 
+@pytest.mark.parametrize("name", SCENES)
+def test_pertriangle_matches_raycast(name, monkeypatch):
+    """Issue 41: per-triangle volumes (no silhouette, no detector runs) give z-fail's masks: 0 far mismatches."""
+    from silcount.render import stencil
+
+    def no_detector(*args, **kwargs):
+        raise AssertionError("pertriangle ran a detector")
+
+    monkeypatch.setattr(stencil, "detect", no_detector)
+    r, t = render_method(scene(name), "pertriangle"), truth(name)
+    c = compare_masks(r.mask, t.mask, t.coverage)
+    assert c.far == 0 and c.fraction <= 0.005, c.describe()
+
+
 @pytest.mark.parametrize("name", [s for s in SCENES if s != "eye_in_shadow"])
 def test_zpass_matches_raycast_when_the_eye_is_lit(name):
     r, t = render_method(scene(name), "zpass"), truth(name)

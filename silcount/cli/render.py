@@ -1,4 +1,4 @@
-"""`silcount render SCENE.json --method zpass|zfail|planar|raycast --out mask.png`: a shadow mask of a scene.
+"""`silcount render SCENE.json --method zpass|zfail|pertriangle|planar|raycast --out mask.png`: a shadow mask.
 
 Scenes are ``silcount-scene/1`` files (``../shared/scenes/README.md``).  The
 stencil methods take the silhouette of ``--detector`` (``--variant`` goes to
@@ -8,7 +8,9 @@ stencil paper's shadow matrix (``--variant literal`` is the printed matrix,
 truncated`` are the stencil paper's printed steps taken literally (the final
 ``If (~Stencil % 2)``; the volumes clipped at the receiver by the "new pixel"
 formula); ``--volume sides`` is the EESD paper's z-fail, the volume's sides without caps; see
-:mod:`silcount.render.stencil` and :mod:`silcount.render.volumes`.
+:mod:`silcount.render.stencil` and :mod:`silcount.render.volumes`.  ``pertriangle`` extrudes every
+light-facing triangle on its own (no detector).  ``--stages FILE`` writes the frame's stage table
+(:mod:`silcount.render.stages`).
 Warnings (open casters, the eye inside a shadow volume) go to stderr.
 
 :func:`report` renders the built-in scenes (:mod:`silcount.render.builtin`)
@@ -28,7 +30,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from silcount.errors import BadArgument, SilcountError
-from silcount.options import RENDER_METHODS, SHADOW_TESTS, VOLUMES
+from silcount.options import RENDER_METHODS, SHADOW_TESTS, STAGE_FORMATS, VOLUMES
 
 if TYPE_CHECKING:
     import numpy as np
@@ -74,6 +76,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="8-bit mask PNG, 255 in shadow (missing folders are created)",
     )
     parser.add_argument("--coverage", type=Path, metavar="cov.png", help="also write the coverage PNG")
+    parser.add_argument(
+        "--stages",
+        type=Path,
+        metavar="FILE",
+        help="also write the frame's stages (zpass, zfail, pertriangle): operations, fragments, stencil updates "
+        "and seconds per stage, as .csv, .json or .parquet by the extension",
+    )
     parser.add_argument("--image", type=Path, metavar="shaded.png", help="also write a Phong-shaded picture")
     parser.add_argument(
         "--max-memory",
@@ -117,6 +126,16 @@ def write_outputs(scene: Scene, r: Rendered, out: Path, coverage: Path | None, i
     return paths
 
 
+def check_stages(args: argparse.Namespace) -> None:
+    """``--stages``: a stencil method, volumes it counts, a known extension; one line otherwise (exit 2)."""
+    if args.method not in ("zpass", "zfail", "pertriangle"):
+        raise BadArgument(f"--stages applies to zpass, zfail and pertriangle, not to {args.method}")
+    if args.volume == "truncated":
+        raise BadArgument("--stages counts infinite and uncapped ('sides') volumes, not truncated ones")
+    if args.stages.suffix.lower() not in STAGE_FORMATS:
+        raise BadArgument(f"--stages {args.stages}: the extension must be one of {', '.join(STAGE_FORMATS)}")
+
+
 def run(args: argparse.Namespace) -> int:
     from silcount.atomic import check_writable
     from silcount.detectors import get
@@ -125,24 +144,35 @@ def run(args: argparse.Namespace) -> int:
     from silcount.render.scene import load_scene
 
     get(args.detector, prefix="--detector: ")  # checked here, not by argparse: the registry fills on first use
-    for path in (args.out, args.coverage, args.image):
+    if args.stages is not None:
+        check_stages(args)
+    for path in (args.out, args.coverage, args.image, args.stages):
         if path is not None:
             check_writable(path)  # before the render, which may take long
     max_memory = parse_size(args.max_memory, "--max-memory") if args.max_memory else None
     scene = load_scene(args.scene, max_memory)
-    if args.method not in ("zpass", "zfail") and (args.shadow_test != "nonzero" or args.volume != "infinite"):
-        raise BadArgument(f"--shadow-test and --volume apply to zpass and zfail, not to {args.method}")
+    if args.method not in ("zpass", "zfail", "pertriangle") and (
+        args.shadow_test != "nonzero" or args.volume != "infinite"
+    ):
+        raise BadArgument(f"--shadow-test and --volume apply to zpass, zfail and pertriangle, not to {args.method}")
     check_memory(scene, args.method, args.image is not None, max_memory)
     r = render_method(scene, args.method, args.detector, args.variant, args.shadow_test, args.volume)
     for msg in r.messages:
         print(f"silcount render: warning: {msg}", file=sys.stderr)
     write_outputs(scene, r, args.out, args.coverage, args.image)
+    if args.stages is not None and r.log is not None:
+        from silcount.render.stages import stage_table, write_table
+
+        detector = "" if args.method == "pertriangle" else args.detector
+        write_table(stage_table(r.log, scene.light, args.method, detector), args.stages)
     print(
         f"{args.out}: {int(r.mask.sum())} pixels in shadow of {int(r.coverage.sum())} covered "
         f"({scene.width}x{scene.height}, {args.method}"
         + (
             f", {args.detector} {args.variant}, {args.shadow_test} test, {args.volume} volumes"
             if args.method in ("zpass", "zfail")
+            else f", {args.shadow_test} test"
+            if args.method == "pertriangle"
             else ""
         )
         + (f", {args.variant} shadow matrix" if args.method == "planar" else "")

@@ -30,6 +30,7 @@ from silcount.detectors.spec import ENGINES, VARIANTS, DetectorSpec
 from silcount.errors import check_choice
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
+from silcount.threads import fitted_call
 
 
 def __getattr__(name: str) -> tuple[str, ...]:
@@ -84,6 +85,7 @@ def is_reference_run(name: str, engine: str) -> bool:
     return name == "reference" and engine == "fast"
 
 
+@fitted_call
 def detect(
     mesh: Mesh, light: Light, name: str = "reference", variant: str = "intended", engine: str = "fast"
 ) -> Silhouette:
@@ -99,6 +101,7 @@ def _check(name: str, variant: str, engine: str) -> DetectorSpec:
     return spec
 
 
+@fitted_call
 def detect_many(
     mesh: Mesh, lights: Sequence[Light], name: str = "reference", variant: str = "intended", engine: str = "fast"
 ) -> SilhouetteBatch:

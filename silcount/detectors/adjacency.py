@@ -23,6 +23,7 @@ from numba import njit, prange
 
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
+from silcount.threads import fitted_call
 
 _PRECOMPUTED: "weakref.WeakKeyDictionary[Mesh, tuple]" = weakref.WeakKeyDictionary()
 
@@ -220,6 +221,7 @@ def _pair_bits_kernel(bits, pair_faces, n_lights):  # pragma: no cover - compile
     return start, out
 
 
+@fitted_call
 def facing_flags(mesh: Mesh, light: Light, faces: np.ndarray | None = None) -> tuple[np.ndarray, int]:
     """Light-facing flags and ties (of all faces, or of ``faces``), computed as
     :func:`~silcount.detectors.base.counted_visibility` does, in its operation order."""
@@ -252,6 +254,7 @@ def shared_facing_flags(mesh: Mesh, light: Light) -> tuple[np.ndarray, int]:
     return got[1], got[2]
 
 
+@fitted_call
 def edge_ids_of(mesh: Mesh, is_facing: np.ndarray) -> np.ndarray:
     """Ids of the edges with exactly one light-facing incident face, ascending: the reference rule."""
     _, _, two_ids, pair_faces, other, o_start, o_faces = edge_faces(mesh)
@@ -284,6 +287,7 @@ BATCH = 64  # lights per pass of :func:`many_edge_ids` (one bit each in a uint64
 _LAST_MANY: "weakref.WeakKeyDictionary[Mesh, tuple[bytes, list]]" = weakref.WeakKeyDictionary()
 
 
+@fitted_call
 def many_edge_ids(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int, np.ndarray, int]]:
     """For each light: (reference edge ids, ties, the packed facing words, its bit), 64 lights per pass.
 

@@ -6,8 +6,8 @@
   corrected per-line costs; :mod:`silcount.papers.formulas`);
 * ``cycles``: cycle-weighted totals per algorithm (EESD paper Fig. 9) for
   each cycle profile (:mod:`silcount.counting.cycles`), printed vs corrected;
-* ``growth``: measured tallies vs faces, log-log, with fitted exponents
-  (:mod:`silcount.papers.growth`).
+* ``growth``: measured tallies vs faces, log-log, with fitted exponents and
+  complexity classes (:mod:`silcount.papers.growth`, :mod:`silcount.study.classes`).
 
 PNG and SVG via matplotlib's Agg backend, with fixed metadata and
 ``svg.hashsalt`` so regenerated files are byte-identical.
@@ -31,6 +31,7 @@ from silcount.detectors import get, names, with_role  # noqa: E402
 from silcount.papers import formulas as F  # noqa: E402
 from silcount.papers import growth as sweep  # noqa: E402
 from silcount.plots import STYLE, save_figure  # noqa: E402
+from silcount.study.classes import choose  # noqa: E402
 
 if TYPE_CHECKING:
     from silcount.papers.registry import Paper
@@ -148,7 +149,7 @@ def _colour(det: str) -> str:
 
 
 def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Path]:
-    """Measured total operations vs faces (icosphere sweep), log-log, with fitted exponents."""
+    """Measured total operations vs faces (icosphere sweep), log-log, with fitted exponents and classes."""
     runs = sweep.sweep(with_real=False) if runs is None else runs
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
     apart = 0.0  # HSD against TA, the largest relative difference of their totals
@@ -164,7 +165,7 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
                 continue
             faces = [r.faces for r in series]
             totals = [sum(r.tally[model].values()) for r in series]
-            b = sweep.fit_exponent(faces, totals)
+            b, c = sweep.fit_exponent(faces, totals), choose(faces, totals)
             faces_all += faces
             by_det[det] = [float(t) for t in totals]
             ax.plot(
@@ -172,7 +173,8 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
                 totals,
                 marker="o",
                 color=_colour(det),
-                label=f"{get(det).label}: F^{b:.2f}" + (" (~ TA)" if det == "hsd" else ""),
+                label=f"{get(det).label}: F^{b:.2f}, {c.chosen} (w {c.weight:.2f})"
+                + (" (~ TA)" if det == "hsd" else ""),
                 linestyle=_line(det),
             )
         if "hsd" in by_det and "ta" in by_det and len(by_det["hsd"]) == len(by_det["ta"]):
@@ -188,7 +190,8 @@ def growth(out_dir: Path, runs: tuple[sweep.Run, ...] | None = None) -> list[Pat
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)  # below the axis label
     axes[0].set_ylabel("operations per silhouette query (all kinds)")
     fig.suptitle(
-        "Measured growth of operation counts (fast engine, one point light); legend: fitted exponent\n"
+        "Measured growth of operation counts (fast engine, one point light); legend: fitted exponent, class by AIC "
+        "(Akaike weight)\n"
         f"HSD within {apart:.1%} of TA here: icospheres have no coplanar neighbours to merge\n"
         "Gauss map and normal cones: the query, without the tree's build"
     )
@@ -262,6 +265,7 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
             lines.append(f"| {det} | {model} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in vals) + " |")
     no_paper = [det for det in dets if get(det).paper_model is None]
     lines += ["", *(f"{det}: no paper cost model, its paper row is empty." for det in no_paper)] if no_paper else []
+    lines += ["", *class_table(runs)]
     lines += [
         "",
         "| mesh | faces | " + " | ".join(f"{d} true total" for d in dets) + " |",
@@ -278,6 +282,33 @@ def exponent_table(runs: tuple[sweep.Run, ...] | None = None) -> str:
             + " |"
         )
     return "\n".join(lines) + "\n"
+
+
+def class_table(runs: tuple[sweep.Run, ...]) -> list[str]:
+    """The total operations' complexity class beside their exponent, per detector and cost model (markdown lines)."""
+    lines = [
+        "## Complexity class of the total operations",
+        "",
+        "Each class cost = a g(n) of 1, log n, sqrt n, n, n log n, n^1.5, n^2, n^2 log n, n^3 (n = F) fitted on "
+        "log cost, chosen by AIC; w: its Akaike weight; bootstrap: the share of 1000 resamples of the "
+        f"{len(sweep.SWEEP_MESHES)} meshes choosing it (docs/complexity.md). Five sizes over 2.4 decades: the class "
+        "is the single term closest over this range, not an asymptote (TA's total mixes terms in n and n^2).",
+        "",
+        "| detector | cost model | exponent b | class | w | bootstrap | runner-up | its w |",
+        "|---|---|---:|---|---:|---:|---|---:|",
+    ]
+    for det in names():
+        series = sorted((r for r in runs if r.detector == det and r.mesh in sweep.SWEEP_MESHES), key=lambda r: r.faces)
+        for model in ("paper", "true"):
+            if not series or any(model not in r.tally for r in series):  # no such cost model: no row
+                continue
+            faces, totals = [r.faces for r in series], [sum(r.tally[model].values()) for r in series]
+            b, c = sweep.fit_exponent(faces, totals), choose(faces, totals)
+            lines.append(
+                f"| {det} | {model} | {b:.2f} | {c.chosen} | {c.weight:.2f} | {c.share:.2f} | "
+                f"{c.runner_up} | {c.runner_up_weight:.2f} |"
+            )
+    return lines
 
 
 def _growth_table(out_dir: Path) -> list[Path]:

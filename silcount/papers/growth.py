@@ -4,7 +4,8 @@ Every registered detector (:func:`silcount.detectors.names`) runs with the ``fas
 engine on the icosphere series (F = 20 * 4**k faces) and on the shared real
 meshes (``$SILCOUNT_MESH_DIR``) for one fixed point light; for each cost model
 and operation kind the exponent b of ``count ~ a F**b`` is fitted by least
-squares on log-log over the icospheres.  The papers claim O(n^2) for TA, VnV
+squares on log-log over the icospheres; :func:`measure_exponent` adds the
+complexity class of the same points (:mod:`silcount.study.classes`).  The papers claim O(n^2) for TA, VnV
 and EESD with n = faces (EESD paper Sec. 5; HSD paper Sec. VI).
 
 The tables' "measured" columns need meshes whose n (faces) and m (sides per
@@ -30,6 +31,7 @@ from silcount.errors import SilcountError
 from silcount.mesh.lights import PointLight
 from silcount.mesh.model import Mesh, from_polygons
 from silcount.mesh.shapes import builtin_mesh
+from silcount.study.classes import ClassChoice, choose
 
 SWEEP_MESHES = tuple(f"icosphere{k}" for k in range(0, 5))
 REAL_MESHES = ("cow.obj", "fandisk.obj", "bunny.ply", "teapot.obj")
@@ -144,6 +146,8 @@ class Exponent:
 
     The complexity claims take any sequence of these (``source`` names where they come from: this module's
     icosphere sweep, or another sweep such as the corpus one), so a second source plugs in as an argument.
+    ``classes``: the complexity class of the same points (:func:`silcount.study.classes.choose`), shown
+    beside the exponent; None where not fitted.
     """
 
     detector: str
@@ -153,6 +157,20 @@ class Exponent:
     high: float
     points: int
     source: str
+    classes: ClassChoice | None = None
+
+    def text(self) -> str:
+        """``F^1.29 [1.20, 1.39], class n log n (w 0.90, bootstrap 0.74; runner-up n^1.5, w 0.08)``."""
+        fitted = f"F^{self.exponent:.2f} [{self.low:.2f}, {self.high:.2f}]"
+        return fitted + ("" if self.classes is None else f", class {self.classes.text()}")
+
+
+def measure_exponent(detector: str, cost_model: str, faces, counts, source: str) -> Exponent:
+    """The :class:`Exponent` of ``counts`` over ``faces``: the fitted exponent, its 95% interval and the class."""
+    b, lo, hi = fit_with_interval(faces, counts)
+    f, c = np.asarray(faces, float), np.asarray(counts, float)
+    keep = c > 0
+    return Exponent(detector, cost_model, b, lo, hi, int(keep.sum()), source, choose(f[keep], c[keep]))
 
 
 def fit_with_interval(faces, counts) -> tuple[float, float, float]:
@@ -175,7 +193,7 @@ def icosphere_evidence(runs: tuple[Run, ...] | None = None) -> tuple[Exponent, .
     for det in sorted({r.detector for r in runs}):
         series = sorted((r for r in runs if r.detector == det and r.mesh in SWEEP_MESHES), key=lambda r: r.faces)
         for model in ("true", "paper"):
-            b, lo, hi = fit_with_interval([r.faces for r in series], [sum(r.tally[model].values()) for r in series])
             source = f"icosphere sweep ({', '.join(r.mesh for r in series)}; fast engine, one point light)"
-            out.append(Exponent(det, model, b, lo, hi, len(series), source))
+            totals = [sum(r.tally[model].values()) for r in series]
+            out.append(measure_exponent(det, model, [r.faces for r in series], totals, source))
     return tuple(out)

@@ -7,6 +7,8 @@ Everitt & Kilgard 2002 for the robust z-fail):
 perspective) -> ``raster.py`` (depth + integer stencil, pixel centres,
 top-left rule) -> ``volumes.py`` (side quads and caps from a detector's
 oriented silhouette) -> ``stencil.py`` (z-pass, z-fail) -> mask.
+``stencil.py`` also draws per-triangle volumes (``pertriangle``, no silhouette) and logs the frame's
+stages, which ``stages.py`` turns into a table of operations, fragments and seconds.
 ``raycast.py`` is the independent ground truth, ``planar.py`` the projected
 planar shadows of the stencil paper Sec. 4 (onto the floor of
 ``receiver.py``), ``shade.py`` the Phong picture, ``masks.py`` PNG I/O and
@@ -32,6 +34,7 @@ _LAZY: dict[str, str] = {
     "Camera": "silcount.render.camera",
     "StencilResult": "silcount.render.stencil",
     "render_stencil": "silcount.render.stencil",
+    "frame_stages": "silcount.render.stages",
     "compare_masks": "silcount.render.masks",
     "read_mask": "silcount.render.masks",
     "write_mask": "silcount.render.masks",
@@ -41,6 +44,7 @@ if TYPE_CHECKING:
     from silcount.render.camera import Camera
     from silcount.render.masks import compare_masks, read_mask, write_mask
     from silcount.render.scene import Scene, SceneObject, load_scene
+    from silcount.render.stages import frame_stages
     from silcount.render.stencil import StencilResult, render_stencil
 
 
@@ -59,6 +63,7 @@ __all__ = [
     "Camera",
     "StencilResult",
     "render_stencil",
+    "frame_stages",
     "compare_masks",
     "read_mask",
     "write_mask",

@@ -6,7 +6,7 @@ own limit).  The counts, per pixel, read from the code: the arrays alive at once
 function's locals to its end) in the phase where most are, temporaries included, with every pixel
 covered (``h`` below is the fraction of pixels that hit a surface; the estimate takes ``h = 1``):
 
-* ``zpass``/``zfail`` (:func:`.stencil.render_stencil`, then :func:`.methods.render_method`): depth
+* ``zpass``/``zfail``/``pertriangle`` (:func:`.stencil.render_stencil`, then :func:`.methods.render_method`): depth
   float64 8, triangle ids int64 8, stencil int32 4 (the depth pass's own stencil is freed when it
   returns), coverage and mask 1 each, and the eye depth (``1 - z`` and the quotient, 8 each) made while
   the stencil result is alive: 38.
@@ -36,7 +36,7 @@ raycast 206.2, zfail with ``--image`` 390.4, raycast with ``--image`` 384.7.
 
 from __future__ import annotations
 
-BYTES_PER_PIXEL = {"zpass": 38, "zfail": 38, "planar": 40, "raycast": 210}
+BYTES_PER_PIXEL = {"zpass": 38, "zfail": 38, "pertriangle": 38, "planar": 40, "raycast": 210}
 WRITE_BYTES_PER_PIXEL = 28
 IMAGE_BYTES_PER_PIXEL = 400
 

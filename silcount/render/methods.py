@@ -1,4 +1,4 @@
-"""One entry point for the four mask methods: ``zpass``, ``zfail``, ``planar``, ``raycast``.
+"""One entry point for the mask methods: ``zpass``, ``zfail``, ``pertriangle``, ``planar``, ``raycast``.
 
 Returns the mask, the coverage, what the shaded picture needs and the
 messages a user must see (open casters; the eye inside a shadow volume with
@@ -21,7 +21,7 @@ from silcount.render.camera import Camera
 from silcount.render.planar import planar_mask
 from silcount.render.raycast import raycast
 from silcount.render.scene import Scene
-from silcount.render.stencil import depth_pass, render_stencil
+from silcount.render.stencil import FrameLog, depth_pass, render_stencil
 
 
 @dataclass
@@ -31,7 +31,8 @@ class Rendered:
     tri_id: np.ndarray
     eye_depth: np.ndarray
     messages: list[str] = field(default_factory=list)
-    timings: dict[str, float] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)  # seconds: silhouette, volume, raster
+    log: FrameLog | None = None  # the stencil methods' stages (:mod:`.stages`)
 
 
 def render_method(
@@ -60,9 +61,18 @@ def render_method(
                 "the volume, so every count is off and this mask is wrong; use --method zfail"
             )
         else:
-            messages.append("the eye is inside a shadow volume (z-fail counts from infinity and is unaffected)")
+            messages.append(
+                f"the eye is inside a shadow volume ({'z-fail' if method == 'zfail' else 'per-triangle z-fail'} "
+                "counts from infinity and is unaffected)"
+            )
     return Rendered(
-        res.mask, res.coverage, res.scene.tri_id, camera.eye_depth_from_ndc_z(res.scene.depth), messages, res.timings
+        res.mask,
+        res.coverage,
+        res.scene.tri_id,
+        camera.eye_depth_from_ndc_z(res.scene.depth),
+        messages,
+        res.timings,
+        res.log,
     )
 
 

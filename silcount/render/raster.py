@@ -50,9 +50,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba import njit, prange
+
+from silcount.threads import fitted
 
 DEPTH, ZPASS, ZFAIL = 0, 1, 2
 SUBPIXEL = 256
@@ -222,10 +223,11 @@ def _bound(kind, q, lo, hi):
 
 
 @njit(cache=True)
-def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil, tri_id, row_lo, row_hi):
+def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, stencil, tri_id, row_lo, row_hi, counts):
     """The baseline's fill (:mod:`.baseline`) on rows ``row_lo..row_hi`` only: the same spans and the same
     depths, with the spans stepped row by row (:func:`_edge_start`) and the edge functions column by column
-    (exact integers either way)."""
+    (exact integers either way).  ``counts`` (:data:`COUNTS`) gains the fragments, the depth tests passed
+    and the stencil updates."""
     H, W = depth.shape
     area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
     half = SUBPIXEL // 2
@@ -235,6 +237,7 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
     r1 = min(row_hi, int(math.floor((max(y0, max(y1, y2)) - half) / SUBPIXEL)))
     if r0 > r1 or c0 > c1:
         return
+    fragments = hits = 0  # hits: the fragments that write (DEPTH, ZPASS: passed; ZFAIL: failed)
     # top-left rule: an edge a->b owns its centres iff dy < 0, or dy == 0 and dx > 0
     b01 = 1 if (y1 - y0 < 0 or (y1 == y0 and x1 - x0 > 0)) else 0
     b12 = 1 if (y2 - y1 < 0 or (y2 == y1 and x2 - x1 > 0)) else 0
@@ -250,6 +253,7 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
         lo, hi = _bound(kb, qb, lo, hi)
         lo, hi = _bound(kc, qc, lo, hi)
         if lo <= hi:
+            fragments += hi - lo + 1
             py = r * SUBPIXEL + half
             px = lo * SUBPIXEL + half
             e01 = (x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)
@@ -262,11 +266,14 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
                     if passed:
                         depth[r, c] = z
                         tri_id[r, c] = ident
+                        hits += 1
                 elif mode == ZPASS:
                     if passed:
                         stencil[r, c] += 1 if front else -1
+                        hits += 1
                 elif not passed:
                     stencil[r, c] += -1 if front else 1
+                    hits += 1
                 e01 += d01
                 e12 += d12
                 e20 += d20
@@ -279,10 +286,13 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
         qc, mc = qc + dqc, mc + dmc
         if mc >= dc:
             qc, mc = qc + 1, mc - dc
+    counts[0] += fragments
+    counts[1] += fragments - hits if mode == ZFAIL else hits
+    counts[2] += 0 if mode == DEPTH else hits
 
 
 @njit(cache=True)
-def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands):
+def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts):
     """Bands ``part, part + parts, ...`` of the ``bands`` equal row bands, one after the other; in each, every
     prepared triangle that reaches it, in input order, into the band's rows only."""
     H = depth.shape[0]
@@ -317,17 +327,25 @@ def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part,
                     tri_id,
                     row_lo,
                     row_hi,
+                    counts,
                 )
 
 
 @njit(cache=True, parallel=True)
-def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands):
+def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts):
     for part in prange(parts):
-        _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands)
+        _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts[part])
 
 
-def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None) -> None:
-    """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's)."""
+COUNTS = ("fragments", "depth_passed", "stencil_updates")
+"""What :func:`rasterize` counts: pixel centres drawn (each triangle's, overdraw included), those whose depth
+test ``LESS`` passed, and stencil writes (``ZPASS``: the passed ones, ``ZFAIL``: the failed ones).  Every pixel
+is drawn by one part, so the sums do not depend on the number of parts."""
+
+
+def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None) -> np.ndarray:
+    """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's threads
+    that have a free core, :func:`silcount.threads.fitted`); returns the :data:`COUNTS` (int64, in that order)."""
     T = clip.shape[0]
     X = np.empty((T, _MAXV), dtype=np.int64)
     Y = np.empty((T, _MAXV), dtype=np.int64)
@@ -336,14 +354,18 @@ def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None)
     area = np.zeros(T, dtype=np.int64)
     rows = np.empty((T, 2), dtype=np.int64)
     H, W = depth.shape
-    if T:
-        _prepare(clip, W, H, X, Y, Z, nv, area, rows)
-        parts = parts or numba.get_num_threads()
+    if not T:
+        return np.zeros(len(COUNTS), dtype=np.int64)
+    _prepare(clip, W, H, X, Y, Z, nv, area, rows)
+    with fitted() as threads:  # the cores free now (silcount.threads)
+        parts = parts or threads
+        counts = np.zeros((parts, len(COUNTS)), dtype=np.int64)  # one row per part: no two threads add to one cell
         if parts == 1:
-            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1)
+            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1, counts[0])
         else:
             bands = min(H, BANDS_PER_PART * parts)
-            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands)
+            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts)
+    return counts.sum(axis=0)
 
 
 def new_buffers(width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -23,26 +23,31 @@ triangles, so its depth equals the stored depth bit for bit and ``LESS``
 fails there, which counts it, as z-fail needs.  Z-pass needs no caps, but
 it is wrong when the eye is inside a volume: the near plane cuts the
 volume, the entering faces are lost (:func:`eye_in_shadow` reports that).
+
+``pertriangle`` (issue 41) finds no silhouette: each light-facing triangle's own capped volume
+(:func:`.volumes.pertriangle_volume`), counted by z-fail.  Every frame logs its stages (:data:`STAGES`,
+:class:`FrameLog`): seconds and the events :mod:`.stages` turns into operation counts.
 """
 
 from __future__ import annotations
 
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from silcount.detectors import detect
-from silcount.errors import check_choice
+from silcount.errors import BadArgument, check_choice
 from silcount.mesh.lights import DirectionalLight
 from silcount.options import SHADOW_TESTS, VOLUMES
 from silcount.render.camera import Camera
-from silcount.render.raster import DEPTH, ZFAIL, ZPASS, homogeneous, new_buffers, rasterize, to_clip
+from silcount.render.raster import COUNTS, DEPTH, ZFAIL, ZPASS, homogeneous, rasterize, to_clip
 from silcount.render.receiver import floor_plane
 from silcount.render.scene import Scene
-from silcount.render.volumes import Volume, build_volume
+from silcount.render.volumes import Volume, build_volume, pertriangle_volume
 
-METHODS = ("zpass", "zfail")
+METHODS = ("zpass", "zfail", "pertriangle")
 
 
 def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarray:
@@ -71,13 +76,30 @@ def shadow_from_stencil(stencil: np.ndarray, test: str = "nonzero") -> np.ndarra
     return (stencil & 1) != 0  # parity
 
 
+STAGES = ("detection", "volume", "depth", "stencil", "lit", "final")
+"""The frame's stages, in order (:mod:`.stages` counts and times them; the OpenGL frame uses the same names)."""
+
+
+@dataclass
+class FrameLog:
+    """What one frame did, stage by stage: seconds (``time.perf_counter``) and events (:mod:`.stages` turns
+    events into operation counts).  ``frame_seconds`` runs from the depth pass's start to the final test's
+    end; the diagnostics after it (eye in a volume, open casters) are no stage."""
+
+    seconds: dict[str, float] = field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
+    events: dict[str, Counter] = field(default_factory=lambda: {s: Counter() for s in STAGES})
+    detection: Counter = field(default_factory=Counter)  # the detectors' own true tallies, summed over casters
+    frame_seconds: float = 0.0
+
+
 @dataclass
 class SceneDepth:
-    """The scene's depth pass: depth, triangle id per pixel and the clip coordinates it used."""
+    """The scene's depth pass: depth, triangle id per pixel, the clip coordinates it used, its raster counts."""
 
     depth: np.ndarray
     tri_id: np.ndarray
     clip: np.ndarray
+    counts: np.ndarray  # raster.COUNTS of the pass
 
     @property
     def coverage(self) -> np.ndarray:
@@ -91,18 +113,29 @@ class StencilResult:
     stencil: np.ndarray  # (H, W) int32
     scene: SceneDepth
     volumes: list[Volume]
-    timings: dict[str, float]  # seconds: silhouette, volume, raster
+    log: FrameLog  # seconds and events per stage
     eye_in_shadow: bool
     volume_clip: np.ndarray  # (T, 3, 4) the stencil pass's triangles in clip space, in drawing order
     warnings: list[str] = field(default_factory=list)
+
+    @property
+    def timings(self) -> dict[str, float]:
+        """Seconds of the silhouette, the volume build and the rasterisation (the depth and stencil passes): the
+        split ``benchmarks.render`` prints; :attr:`log` has every stage's."""
+        sec = self.log.seconds
+        return {"silhouette": sec["detection"], "volume": sec["volume"], "raster": sec["depth"] + sec["stencil"]}
+
+
+_NO_STENCIL = np.zeros((1, 1), dtype=np.int32)  # the DEPTH mode never touches the stencil
 
 
 def depth_pass(scene: Scene, camera: Camera) -> SceneDepth:
     """Step (1): every scene triangle into the depth buffer, ids in scene order."""
     clip = to_clip(homogeneous(scene.triangles), camera.view_projection)
-    depth, stencil, tri_id = new_buffers(camera.width, camera.height)
-    rasterize(clip, np.arange(len(clip), dtype=np.int64), DEPTH, depth, stencil, tri_id)
-    return SceneDepth(depth, tri_id, clip)
+    depth = np.ones((camera.height, camera.width))  # cleared to the far plane
+    tri_id = np.full((camera.height, camera.width), -1, dtype=np.int64)
+    counts = rasterize(clip, np.arange(len(clip), dtype=np.int64), DEPTH, depth, _NO_STENCIL, tri_id)
+    return SceneDepth(depth, tri_id, clip, counts)
 
 
 def segment_blocked(origin: np.ndarray, target: np.ndarray, triangles: np.ndarray) -> bool:
@@ -159,6 +192,44 @@ def open_caster_warnings(scene: Scene) -> list[str]:
     return out
 
 
+def _caster_volume(
+    scene: Scene, k: int, method: str, caps: bool, how: tuple[str, str], receiver, sd: SceneDepth, log: FrameLog
+) -> tuple[Volume, np.ndarray]:
+    """Caster ``k``'s volume and the clip-space triangles it draws (``caps``: with the light and dark caps);
+    its detection (``how``: detector, variant) and volume construction logged."""
+    mesh, ev = scene.objects[k].mesh, log.events["volume"]
+    vp = Camera.of(scene).view_projection
+    point = not isinstance(scene.light, DirectionalLight)
+    t0 = time.perf_counter()
+    if method == "pertriangle":
+        iv = pertriangle_volume(mesh, scene.light)
+        table = to_clip(iv.points, vp)  # each vertex and far point once: shared quads get the same coordinates
+        sides, dark, vol = table[iv.sides], table[iv.dark_cap], iv.volume()
+        ev["vertices_extruded"] += len(mesh.vertices) if point else 0
+        ev["vertices_transformed"] += len(iv.points)
+    else:
+        sil = detect(mesh, scene.light, how[0], variant=how[1], engine="fast")
+        t1 = time.perf_counter()
+        log.seconds["detection"] += t1 - t0
+        log.detection.update(sil.true_tally)
+        t0 = t1
+        vol = build_volume(mesh, scene.light, silhouette=sil, receiver=receiver)
+        sides = to_clip(vol.sides, vp)
+        dark = to_clip(vol.dark_cap, vp) if caps else np.zeros((0, 3, 4))
+        if point and receiver is None:  # to_infinity: a - L for both ends of each edge, each unlit face's corners
+            ev["vertices_extruded"] += 2 * len(sil.oriented) + 3 * len(vol.dark_cap)
+        ev["vertices_transformed"] += 3 * (len(vol.sides) + len(dark))
+    ev["faces_tested"] += mesh.n_faces  # the facing test behind the caps (and the per-triangle volumes)
+    parts = [sides]
+    if caps:  # the light cap: the scene's own clip coordinates, so its depth equals the stored one bit for bit
+        first = sum(o.mesh.n_faces for o in scene.objects[:k])
+        parts += [sd.clip[first : first + mesh.n_faces][vol.lit_faces], dark]
+    clip = np.concatenate(parts, axis=0)
+    ev["triangles_emitted"] += len(clip)
+    log.seconds["volume"] += time.perf_counter() - t0
+    return vol, clip
+
+
 def render_stencil(
     scene: Scene,
     method: str = "zfail",
@@ -170,47 +241,60 @@ def render_stencil(
 ) -> StencilResult:
     """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera.
 
+    ``method``: ``zpass``, ``zfail`` or ``pertriangle`` (z-fail on every light-facing triangle's own capped
+    volume, :func:`.volumes.pertriangle_volume`: no detector runs, ``detector`` and ``variant`` are unused).
     ``shadow_test``: :func:`shadow_from_stencil`.  ``volume``: ``infinite`` (extruded to infinity),
     ``truncated`` (stopped at the floor plane by the stencil paper's "new pixel", :mod:`.volumes`) or
     ``sides`` (infinite, without caps: z-fail as the EESD paper prints it, "like Z-pass algorithm except step 5
-    and 6", its step 4 giving the silhouette's quads only; z-pass draws no caps either way).
+    and 6", its step 4 giving the silhouette's quads only; z-pass draws no caps either way); ``pertriangle``
+    takes ``infinite`` only.  The result's ``log`` holds each stage's seconds and events (:mod:`.stages`); a
+    reused ``depth`` pass is not this frame's work, so its ``depth`` stage is empty.
     """
     check_choice("stencil method", method, METHODS)
     check_choice("shadow test", shadow_test, SHADOW_TESTS)
     check_choice("volume", volume, VOLUMES)
+    if method == "pertriangle" and volume != "infinite":
+        raise BadArgument(f"the pertriangle method draws infinite capped volumes, not {volume!r} ones")
     receiver: tuple[np.ndarray, float] | None = None
     if volume == "truncated":
         _, normal, offset = floor_plane(scene)
         receiver = (normal, offset)
     camera = Camera.of(scene)
-    timings = {"silhouette": 0.0, "volume": 0.0, "raster": 0.0}
-    t0 = time.perf_counter()
+    log = FrameLog()
+    H, W = camera.height, camera.width
+    start = t0 = time.perf_counter()
     sd = depth if depth is not None else depth_pass(scene, camera)
-    timings["raster"] += time.perf_counter() - t0
-    stencil = np.zeros((camera.height, camera.width), dtype=np.int32)
-    mode = ZPASS if method == "zpass" else ZFAIL
-    offsets = np.concatenate([[0], np.cumsum([o.mesh.n_faces for o in scene.objects])])
+    if depth is None:
+        log.events["depth"].update(dict(zip(COUNTS, sd.counts.tolist())))
+        log.events["depth"].update(
+            pixels_cleared=2 * H * W, vertices_transformed=3 * len(sd.clip), depth_writes=int(sd.counts[1])
+        )
+    log.seconds["depth"] += time.perf_counter() - t0
+    caps = method == "pertriangle" or (method == "zfail" and volume != "sides")
     volumes, parts = [], []
     for k, obj in enumerate(scene.objects):
-        if not obj.casts_shadow:
-            continue
-        t0 = time.perf_counter()
-        sil = detect(obj.mesh, scene.light, detector, variant=variant, engine="fast")
-        t1 = time.perf_counter()
-        vol = build_volume(obj.mesh, scene.light, silhouette=sil, receiver=receiver)
-        parts.append(to_clip(vol.sides, camera.view_projection))
-        if method == "zfail" and volume != "sides":
-            parts.append(sd.clip[offsets[k] : offsets[k + 1]][vol.lit_faces])
-            parts.append(to_clip(vol.dark_cap, camera.view_projection))
-        timings["silhouette"] += t1 - t0
-        timings["volume"] += time.perf_counter() - t1
-        volumes.append(vol)
+        if obj.casts_shadow:
+            vol, clip = _caster_volume(scene, k, method, caps, (detector, variant), receiver, sd, log)
+            volumes.append(vol)
+            parts.append(clip)
     t0 = time.perf_counter()  # every caster's volume in one pass: the stencil is a sum of +-1, in any order
+    stencil = np.zeros((H, W), dtype=np.int32)
     clip = np.ascontiguousarray(np.concatenate(parts, axis=0)) if parts else np.zeros((0, 3, 4))
-    if parts:
-        rasterize(clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id)  # read-only here
-    timings["raster"] += time.perf_counter() - t0
-    mask = sd.coverage & shadow_from_stencil(stencil, shadow_test)
+    mode = ZPASS if method == "zpass" else ZFAIL
+    counts = rasterize(clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id)  # read-only
+    log.events["stencil"].update(pixels_cleared=H * W, **dict(zip(COUNTS, counts.tolist())))
+    log.seconds["stencil"] += time.perf_counter() - t0
+    t0 = time.perf_counter()  # the lit pass: the stencil test on every visible sample (one per covered pixel)
+    covered = sd.coverage
+    in_shadow = shadow_from_stencil(stencil[covered], shadow_test)
+    log.events["lit"].update(coverage_tests=H * W, stencil_tests=len(in_shadow))
+    log.seconds["lit"] += time.perf_counter() - t0
+    t0 = time.perf_counter()  # the final test's result, the mask
+    mask = np.zeros((H, W), dtype=bool)
+    mask[covered] = in_shadow
+    log.events["final"].update(pixels_cleared=H * W, mask_writes=len(in_shadow))
+    log.seconds["final"] += time.perf_counter() - t0
+    log.frame_seconds = time.perf_counter() - start
     return StencilResult(
-        mask, sd.coverage, stencil, sd, volumes, timings, eye_in_shadow(scene), clip, open_caster_warnings(scene)
+        mask, covered, stencil, sd, volumes, log, eye_in_shadow(scene), clip, open_caster_warnings(scene)
     )

@@ -28,6 +28,16 @@ for receivers on the light's side of the plane and loses every shadow beyond
 it (a lower floor, a wall below the plane's level): a receiver that is not
 the clipping plane.
 
+``pertriangle`` volumes need no silhouette (the per-triangle shadow volumes
+of Sintorn, Olsson & Assarsson 2011, drawn as stencil volumes): every
+light-facing triangle is extruded on its own, its light cap (the triangle),
+its dark cap (the triangle at infinity, winding reversed so that it faces
+away from the light) and three side quads (:func:`pertriangle_volume`).
+Two light-facing triangles that share an edge draw the same quad with
+opposite windings; both use the same triangles of it, with the same first
+vertex, so the rasteriser computes the same depths and the two cancel
+exactly.
+
 Light-facing is the detectors' rule (:func:`silcount.detectors.reference.facing_flags`,
 ``(L - p0) . n > 0``).  For a directional light every far vertex is the one
 point ``(-d, 0)``: the sides are triangles and the dark cap vanishes.
@@ -50,7 +60,7 @@ from silcount.mesh.model import Mesh
 class Volume:
     """The shadow volume of one caster, in homogeneous world coordinates."""
 
-    silhouette: Silhouette
+    silhouette: Silhouette | None  # None: per-triangle volumes, which find no silhouette
     sides: np.ndarray  # (S, 3, 4) side triangles, two per silhouette edge (one if directional)
     lit_faces: np.ndarray  # (F,) bool: the light cap (the caller reuses the scene's own triangles)
     dark_cap: np.ndarray  # (D, 3, 4) unlit faces at infinity (empty for a directional light)
@@ -138,3 +148,43 @@ def build_volume(
     else:
         dark = to_infinity(mesh.vertices[mesh.faces[~lit]], light)
     return Volume(sil, side_triangles(mesh, sil.oriented, light), lit, dark)
+
+
+@dataclass
+class IndexedVolume:
+    """Per-triangle volumes as indices into one point table: the mesh's vertices, then each one's far point."""
+
+    points: np.ndarray  # (2V, 4) homogeneous world: vertex i is row i, its point at infinity row V + i
+    lit_faces: np.ndarray  # (F,) bool: the light-facing faces, each one's own light cap
+    sides: np.ndarray  # (S, 3) int: side triangles, two per edge of each light-facing face (one if directional)
+    dark_cap: np.ndarray  # (D, 3) int: each light-facing face at infinity, reversed (none if directional)
+
+    def volume(self) -> Volume:
+        """The same triangles as a :class:`Volume` (coordinates, no silhouette)."""
+        return Volume(None, self.points[self.sides], self.lit_faces, self.points[self.dark_cap])
+
+
+def pertriangle_volume(mesh: Mesh, light: Light) -> IndexedVolume:
+    """Every light-facing face extruded on its own (Sintorn, Olsson & Assarsson 2011, as stencil volumes).
+
+    Face ``(i, j, k)`` gives the edges ``(i, j), (j, k), (k, i)``; edge ``(a, b)`` gives the side quad
+    ``(b, a, a_inf, b_inf)`` as the silhouette's sides do.  With ``u < v`` the quad of ``(u, v)`` is drawn
+    as ``(v, u, u_inf), (v, u_inf, v_inf)`` and that of ``(v, u)`` as the same two triangles reversed
+    with the first vertex kept, ``(v, u_inf, u), (v, v_inf, u_inf)``: the shared quads of neighbours
+    cancel bit for bit.  The dark cap is ``(i_inf, k_inf, j_inf)``.
+    """
+    lit, _ = facing_flags(mesh, light)
+    V = len(mesh.vertices)
+    points = np.concatenate(
+        [np.concatenate([mesh.vertices, np.ones((V, 1))], axis=1), to_infinity(mesh.vertices, light)], axis=0
+    )
+    f = mesh.faces[lit].astype(np.int64)
+    a, b = f.reshape(-1), f[:, [1, 2, 0]].reshape(-1)
+    u, v = np.minimum(a, b), np.maximum(a, b)
+    forward = (a < b)[:, None]
+    first = np.where(forward, np.stack([v, u, V + u], axis=1), np.stack([v, V + u, u], axis=1))
+    if isinstance(light, DirectionalLight):  # every far point is (-d, 0): one triangle per edge, no dark cap
+        return IndexedVolume(points, lit, first, np.zeros((0, 3), dtype=np.int64))
+    second = np.where(forward, np.stack([v, V + u, V + v], axis=1), np.stack([v, V + v, V + u], axis=1))
+    dark = V + f[:, [0, 2, 1]]
+    return IndexedVolume(points, lit, np.concatenate([first, second], axis=0), dark)

@@ -12,7 +12,8 @@ laws to silcount's measurements.
 >>> result.fits["silhouette_edges"]["alpha"], result.fits["silhouette_edges"]["alpha_ci"]
 
 Modules: :mod:`.work` (one file at one level, on a worker), :mod:`.subdivide`,
-:mod:`.schedule` (Dask), :mod:`.cache`, :mod:`.tables`, :mod:`.fits`,
+:mod:`.schedule` (Dask), :mod:`.cache`, :mod:`.tables`, :mod:`.fits` (with
+:mod:`.classes`, the complexity class of each fitted series),
 :mod:`.figures`, :mod:`.output` (``--out DIR``), :mod:`.literature` and
 :mod:`.literature_page` (the papers' detectors beside ``gaussmap`` and ``cones``).
 """

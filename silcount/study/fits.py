@@ -10,7 +10,11 @@ The fit is ordinary least squares of ``log y`` on ``log F`` (McGuire,
 same interval); resamples whose ``F`` are all equal have no slope and are
 skipped.  Meshes with ``y <= 0`` (no silhouette, no operation) cannot be on a
 log scale and are left out; ``meshes`` is the number used.  Fewer than two
-distinct ``F``: no fit (``alpha`` and ``c`` are ``None``).  ``against`` names
+distinct ``F``: no fit (``alpha`` and ``c`` are ``None``).  ``classes`` is the
+complexity class of the same points (:func:`silcount.study.classes.choose`:
+AIC over 1, log n, ..., n^3, Akaike weights, 1000 seeded bootstrap resamples),
+``None`` with fewer than three distinct sizes or a size of at most 1 (where
+``log n`` is not positive).  ``against`` names
 the size fitted against (``F``, the faces, unless another is passed: the
 silhouette ``s`` or ``s log2 F`` of :mod:`silcount.study.literature`).
 """
@@ -18,6 +22,8 @@ silhouette ``s`` or ``s log2 F`` of :mod:`silcount.study.literature`).
 from __future__ import annotations
 
 import numpy as np
+
+from silcount.study.classes import choose
 
 BOOTSTRAP = 2000
 BOOTSTRAP_SEED = 0
@@ -34,14 +40,15 @@ def _slopes(lx: np.ndarray, ly: np.ndarray) -> np.ndarray:
 
 
 def power_fit(faces, values, subset: str = "", against: str = "F") -> dict:
-    """``{"alpha", "c", "alpha_ci", "meshes", "subset", "against"}`` for ``values ~ c faces^alpha`` (``faces``:
-    any positive size, named by ``against``)."""
+    """``{"alpha", "c", "alpha_ci", "meshes", "subset", "against", "classes"}`` for ``values ~ c faces^alpha``
+    (``faces``: any positive size, named by ``against``)."""
     x = np.asarray(faces, dtype=np.float64)
     y = np.asarray(values, dtype=np.float64)
     keep = (x > 0) & (y > 0) & np.isfinite(y)
     x, y = x[keep], y[keep]
     out: dict = {"alpha": None, "c": None, "alpha_ci": None, "meshes": int(x.size), "subset": subset}
     out["against"] = against
+    out["classes"] = choose(x, y).as_dict() if np.unique(x).size >= 3 and (x > 1).all() else None
     if np.unique(x).size < 2:
         return out
     lx, ly = np.log(x), np.log(y)

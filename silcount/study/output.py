@@ -11,7 +11,8 @@ The *summary* table has one row per mesh and level: ``file, level, faces,
 kind, coplanar_polygons, silhouette_edges_mean, silhouette_edges_std,
 error``; the *fits* table one row per fit: ``fit, subset, against`` (the
 size ``x`` of ``y ~ c x^alpha``: ``F`` but for the output-sensitivity fits),
-``meshes, alpha, alpha_lo, alpha_hi, c``.  ``text`` and ``md`` print both (every column);
+``meshes, alpha, alpha_lo, alpha_hi, c``, ``class`` (the complexity class, its Akaike weight and bootstrap
+share) and ``runner_up``.  ``text`` and ``md`` print both (every column);
 ``json`` prints the whole ``silcount-corpus/1`` document.
 """
 
@@ -50,6 +51,15 @@ def summary_frame(meshes: pd.DataFrame) -> pd.DataFrame:
     return out.fillna("")
 
 
+def _class(c: dict | None) -> str:
+    """``n^2 (w 0.83, boot 0.59)``: the chosen class, its Akaike weight and its bootstrap share; empty for none."""
+    return "" if c is None else f"{c['chosen']} (w {c['weight']:.2f}, boot {c['share']:.2f})"
+
+
+def _runner_up(c: dict | None) -> str:
+    return "" if c is None else f"{c['runner_up']} (w {c['runner_up_weight']:.2f})"
+
+
 def fits_frame(fits: dict) -> pd.DataFrame:
     import pandas as pd
 
@@ -67,10 +77,12 @@ def fits_frame(fits: dict) -> pd.DataFrame:
                 "alpha_lo": num(f["alpha_ci"] and f["alpha_ci"][0], ".3f"),
                 "alpha_hi": num(f["alpha_ci"] and f["alpha_ci"][1], ".3f"),
                 "c": num(f["c"], ".4g"),
+                "class": _class(f.get("classes")),
+                "runner_up": _runner_up(f.get("classes")),
             }
             for name, f in fits.items()
         ],
-        columns=["fit", "subset", "against", "meshes", "alpha", "alpha_lo", "alpha_hi", "c"],
+        columns=["fit", "subset", "against", "meshes", "alpha", "alpha_lo", "alpha_hi", "c", "class", "runner_up"],
     )
 
 
@@ -103,7 +115,9 @@ def format_corpus(result: CorpusResult, form: str) -> str:
     meshes, fits_text = (t.to_markdown(index=False) if md else t.to_string(index=False) for t in (summary, fits))
     return (
         f"{head}Meshes\n{gap}{meshes}\n{gap}{failed}"
-        f"\n{head}Fits: y ~ c x^alpha, x = F unless stated (95% bootstrap interval for alpha)\n{gap}{fits_text}\n"
+        f"\n{head}Fits: y ~ c x^alpha, x = F unless stated (95% bootstrap interval for alpha); class: the complexity "
+        "class chosen by AIC, its Akaike weight w and its share of 1000 bootstrap resamples (docs/complexity.md)\n"
+        f"{gap}{fits_text}\n"
     )
 
 

@@ -1,143 +1,21 @@
-"""The same stencil shadow-volume frame on Mesa's llvmpipe, through OpenGL (issue 15, "Rendering").
+"""A second, numpy-only silhouette and volume builder for the OpenGL frame, and a whole llvmpipe process (issue 15).
 
-A benchmark baseline, not part of silcount (which renders without OpenGL):
-``python -m benchmarks.render --llvmpipe`` times it against the software
-rasteriser in the same run and compares the masks pixel by pixel.
+The GL passes themselves are :class:`silcount.render.opengl.GLFrame` (once this module's ``GLStencil``; issue
+41 moved them into the package to time the frame stage by stage): GL rasterises, tests and clips the very
+clip-space triangles silcount draws, with its own depth test and two-sided stencil, so the masks it gives
+are an independent implementation of the stencil steps.  What stays here is what a GL application would do
+on the CPU with no silcount code at all: :func:`bake` ships the scene, :func:`volume_clip` finds the
+silhouette and builds the volume with numpy, and :func:`process` is the whole llvmpipe process that
+``python -m benchmarks.render --llvmpipe --whole-process`` times against ``silcount render``.
 
-The GL frame draws exactly the triangles silcount's rasteriser draws, in
-the same clip coordinates (a pass-through vertex shader; float32 on the
-GPU side where silcount keeps float64): the scene into the depth buffer
-(``LESS``, cleared to 1), then every caster's volume with depth writes and
-colour off and the two-sided stencil of the stencil paper Sec. 5 steps
-(4)-(5) (``INCR_WRAP``/``DECR_WRAP``, back/front for z-fail, front/back for
-z-pass), as :mod:`silcount.render.raster` does.  GL's window origin is the
-bottom-left corner, so read-backs are flipped to silcount's row 0 at the top.
-The 8-bit stencil wraps; read as int8 it equals silcount's int32 count
-while counts stay within -128..127.
-
-Needs ``moderngl`` (only to open a headless EGL context) and ``PyOpenGL``
-(every GL call), both from PyPI: ``pip install moderngl PyOpenGL``.
+Needs the ``gl`` extra (moderngl, PyOpenGL): ``pip install moderngl PyOpenGL``.
 """
 
 from __future__ import annotations
 
-import ctypes
-import os
-
 import numpy as np
 
-os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
-
-VERTEX = """#version 330 core
-layout(location = 0) in vec4 clip;
-void main() { gl_Position = clip; }
-"""
-FRAGMENT = """#version 330 core
-out vec4 colour;
-void main() { colour = vec4(1.0); }
-"""
-
-
-class GLStencil:
-    """A headless llvmpipe context with a ``width`` x ``height`` colour + depth24/stencil8 framebuffer."""
-
-    def __init__(self, width: int, height: int) -> None:
-        import moderngl
-        from OpenGL import GL
-
-        self.gl = GL
-        # kept alive: it owns the context; moderngl types its **kwargs oddly (dict[str, Any] each)
-        self.ctx = moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
-        self.renderer = self.ctx.info["GL_RENDERER"]
-        self.width, self.height = width, height
-        self.fbo = GL.glGenFramebuffers(1)
-        GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, self.fbo)
-        colour, depth_stencil = GL.glGenRenderbuffers(2)
-        for rb, fmt, attach in (
-            (colour, GL.GL_RGBA8, GL.GL_COLOR_ATTACHMENT0),
-            (depth_stencil, GL.GL_DEPTH24_STENCIL8, GL.GL_DEPTH_STENCIL_ATTACHMENT),
-        ):
-            GL.glBindRenderbuffer(GL.GL_RENDERBUFFER, rb)
-            GL.glRenderbufferStorage(GL.GL_RENDERBUFFER, fmt, width, height)
-            GL.glFramebufferRenderbuffer(GL.GL_FRAMEBUFFER, attach, GL.GL_RENDERBUFFER, rb)
-        status = GL.glCheckFramebufferStatus(GL.GL_FRAMEBUFFER)
-        if status != GL.GL_FRAMEBUFFER_COMPLETE:
-            raise RuntimeError(f"gl_stencil: framebuffer incomplete (status {status:#x})")
-        self._use_program()
-        self.vao = GL.glGenVertexArrays(1)
-        GL.glBindVertexArray(self.vao)
-        self.scene_vbo, self.volume_vbo = GL.glGenBuffers(2)
-        self.n_scene = 0
-        GL.glViewport(0, 0, width, height)
-        GL.glDisable(GL.GL_CULL_FACE)
-        GL.glClearDepth(1.0)
-        GL.glClearStencil(0)
-
-    def _use_program(self) -> None:
-        """Compile, link and bind the pass-through program (the only one: it stays bound)."""
-        GL = self.gl
-        prog = GL.glCreateProgram()
-        for kind, src in ((GL.GL_VERTEX_SHADER, VERTEX), (GL.GL_FRAGMENT_SHADER, FRAGMENT)):
-            sh = GL.glCreateShader(kind)
-            GL.glShaderSource(sh, src)
-            GL.glCompileShader(sh)
-            if not GL.glGetShaderiv(sh, GL.GL_COMPILE_STATUS):
-                raise RuntimeError(f"gl_stencil: shader: {GL.glGetShaderInfoLog(sh).decode()}")
-            GL.glAttachShader(prog, sh)
-        GL.glLinkProgram(prog)
-        GL.glUseProgram(prog)
-
-    def _upload(self, vbo: int, clip: np.ndarray) -> int:
-        GL = self.gl
-        data = np.ascontiguousarray(clip, dtype=np.float32).reshape(-1, 4)
-        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, vbo)
-        GL.glBufferData(GL.GL_ARRAY_BUFFER, data.nbytes, data, GL.GL_STREAM_DRAW)
-        GL.glEnableVertexAttribArray(0)
-        GL.glVertexAttribPointer(0, 4, GL.GL_FLOAT, GL.GL_FALSE, 16, ctypes.c_void_p(0))
-        return len(data)
-
-    def set_scene(self, clip: np.ndarray) -> None:
-        """The (T, 3, 4) scene triangles in clip space, uploaded once (the scene does not move)."""
-        self.n_scene = self._upload(self.scene_vbo, clip)
-
-    def frame(self, volume_clip: np.ndarray, method: str) -> None:
-        """One frame: clear, depth pass of the scene, volume upload, stencil pass; waits for the GPU."""
-        GL = self.gl
-        GL.glDepthMask(GL.GL_TRUE)  # the write masks gate glClear too: restore them first
-        GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
-        GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT | GL.GL_STENCIL_BUFFER_BIT)
-        GL.glEnable(GL.GL_DEPTH_TEST)
-        GL.glDepthFunc(GL.GL_LESS)
-        GL.glDisable(GL.GL_STENCIL_TEST)
-        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, self.scene_vbo)
-        GL.glVertexAttribPointer(0, 4, GL.GL_FLOAT, GL.GL_FALSE, 16, ctypes.c_void_p(0))
-        GL.glDrawArrays(GL.GL_TRIANGLES, 0, self.n_scene)
-        n = self._upload(self.volume_vbo, volume_clip)
-        GL.glDepthMask(GL.GL_FALSE)
-        GL.glColorMask(GL.GL_FALSE, GL.GL_FALSE, GL.GL_FALSE, GL.GL_FALSE)
-        GL.glEnable(GL.GL_STENCIL_TEST)
-        GL.glStencilFunc(GL.GL_ALWAYS, 0, 0xFF)
-        keep, inc, dec = GL.GL_KEEP, GL.GL_INCR_WRAP, GL.GL_DECR_WRAP
-        if method == "zfail":  # (face, stencil fail, depth fail, depth pass)
-            GL.glStencilOpSeparate(GL.GL_BACK, keep, inc, keep)
-            GL.glStencilOpSeparate(GL.GL_FRONT, keep, dec, keep)
-        else:
-            GL.glStencilOpSeparate(GL.GL_FRONT, keep, keep, inc)
-            GL.glStencilOpSeparate(GL.GL_BACK, keep, keep, dec)
-        GL.glDrawArrays(GL.GL_TRIANGLES, 0, n)
-        GL.glFinish()
-
-    def stencil(self) -> np.ndarray:
-        """The stencil as int8 counts, (H, W), row 0 at the top."""
-        GL = self.gl
-        raw = GL.glReadPixels(0, 0, self.width, self.height, GL.GL_STENCIL_INDEX, GL.GL_UNSIGNED_BYTE)
-        return np.frombuffer(raw, dtype=np.int8).reshape(self.height, self.width)[::-1]
-
-    def coverage(self) -> np.ndarray:
-        """Where the depth pass drew (depth below the cleared 1), (H, W), row 0 at the top."""
-        GL = self.gl
-        raw = GL.glReadPixels(0, 0, self.width, self.height, GL.GL_DEPTH_COMPONENT, GL.GL_FLOAT)
-        return (np.frombuffer(raw, dtype=np.float32).reshape(self.height, self.width) < 1.0)[::-1]
+from silcount.render.opengl import GLFrame
 
 
 def bake(scene, path: str) -> None:
@@ -195,7 +73,7 @@ def process(baked_path: str, out: str, method: str) -> None:
     baked = dict(np.load(baked_path))
     t1 = time.perf_counter()
     width, height = (int(x) for x in baked["size"])
-    gl = GLStencil(width, height)
+    gl = GLFrame(width, height)
     scene = np.concatenate([baked["scene"], np.ones(baked["scene"].shape[:2] + (1,))], axis=2) @ baked["vp"].T
     gl.set_scene(scene)
     t2 = time.perf_counter()

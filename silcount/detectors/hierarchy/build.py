@@ -29,6 +29,7 @@ from silcount.detectors.hierarchy.tree import (
     sort_passes,
 )
 from silcount.mesh.model import Mesh
+from silcount.threads import fitted_call
 
 
 @njit(cache=True, parallel=True)
@@ -283,6 +284,7 @@ def index_bits(n: int) -> int:
     return max(1, int(n - 1).bit_length())
 
 
+@fitted_call
 def build_fast(mesh: Mesh, scheme: KeyScheme, leaf_size: int, fanout: int) -> Hierarchy:
     """The two trees over the mesh's edges, each sorted by ``scheme``'s keys, built by compiled kernels.
 

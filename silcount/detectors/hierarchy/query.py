@@ -13,6 +13,7 @@ import weakref
 
 import numba
 import numpy as np
+from numba import njit
 
 from silcount.counting.arithmetic import OpCounter
 from silcount.detectors.adjacency import edge_faces, facing_flags
@@ -30,18 +31,20 @@ from silcount.detectors.spec import DetectorSpec
 from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
+from silcount.threads import fitted
 
 PARALLEL_NODES = 1 << 15  # smaller trees are walked on one thread (waking the thread pool costs more than it saves)
 _SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDictionary()
 
 
 def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, dict[str, int], int]:
-    """Edge ids (unsorted), steps and face-evaluation ties of one query, compiled.
+    """Edge ids (ascending), steps and face-evaluation ties of one query, compiled.
 
-    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when numba has more than one
-    thread, smaller ones on one; the ids and steps are the same either way.  The edges are written into
-    one output buffer kept with the tree (the subtrees write from their own first positions, so a fresh
-    buffer would be touched page by page on every query), then copied out.
+    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when more than one of numba's
+    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on one; the ids and steps are the
+    same either way.  The edges are written into one output buffer kept with the tree (the subtrees write
+    from their own first positions, so a fresh buffer would be touched page by page on every query), then
+    sorted out of it (:func:`ascending_ids`).
     """
     s, thr = pretest(light, tree.p0_max)
     p0, nrm = edge_faces(mesh)[:2]
@@ -49,16 +52,56 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     if out is None:
         out = _SCRATCH.setdefault(tree, np.empty(tree.order.size, dtype=np.int64))
     stats = np.zeros(N_STATS, dtype=np.int64)
-    threads = numba.get_num_threads()
-    split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
     start, sides = mesh.edge_sides
-    k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout, tree.order,
-              tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
-              np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
-              split, threads)  # fmt: skip
+    with fitted() as threads:  # the cores free now (silcount.threads)
+        split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
+        k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout,
+                  tree.order, tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
+                  np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
+                  split, threads)  # fmt: skip
     steps = dict(zip(STEP_NAMES[:-1], stats[: len(STEP_NAMES) - 1].tolist(), strict=True))
     steps["add"] = int(k)
-    return out[:k].copy(), steps, int(stats[TIES])
+    return ascending_ids(out[:k], max(mesh.n_edges - 1, 0).bit_length()), steps, int(stats[TIES])
+
+
+RADIX_BITS = 11  # a digit: 2,048 counters, two passes for meshes of up to 4 M edges
+
+
+@njit(cache=True)
+def _radix_pass(src, dst, shift, count):  # pragma: no cover - compiled
+    """One stable counting pass of :func:`ascending_ids` on the digit at ``shift``."""
+    mask = (1 << RADIX_BITS) - 1
+    count[:] = 0
+    for i in range(src.size):
+        count[(src[i] >> shift) & mask] += 1
+    total = 0
+    for d in range(count.size):
+        c = count[d]
+        count[d] = total
+        total += c
+    for i in range(src.size):
+        d = (src[i] >> shift) & mask
+        dst[count[d]] = src[i]
+        count[d] += 1
+
+
+@njit(cache=True)
+def ascending_ids(ids, bits):  # pragma: no cover - compiled
+    """A sorted copy of ``ids`` (non-negative, below ``2 ** bits``): LSD radix sort, ``RADIX_BITS`` a pass.
+
+    The walk writes its edges leaf by leaf; the result holds them ascending.  ``np.sort`` took 0.3-0.4 ms
+    of a 0.5 ms gaussmap query of the 1.04 M-face bunny (13 k edges, load 9).
+    """
+    count = np.empty(1 << RADIX_BITS, dtype=np.int64)
+    a = np.empty(ids.size, dtype=np.int64)
+    _radix_pass(ids, a, 0, count)
+    b = np.empty(ids.size, dtype=np.int64)
+    shift = RADIX_BITS
+    while shift < bits:
+        _radix_pass(a, b, shift, count)
+        a, b = b, a
+        shift += RADIX_BITS
+    return a
 
 
 def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
@@ -72,11 +115,9 @@ def plain_query(mesh: Mesh, scheme: KeyScheme, light: Light) -> np.ndarray:
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        ids = query_fast(mesh, tree, light)[0]
+        return query_fast(mesh, tree, light)[0]
     finally:
         numba.set_num_threads(threads)
-    ids.sort()  # query_fast's own copy
-    return ids
 
 
 # ---- a detector over a hierarchy -----------------------------------------------------------------------

@@ -167,7 +167,14 @@ def worst_degree(model: str) -> int:
 
 
 def _growth(e) -> str:
-    return f"F^{e.exponent:.2f} [{e.low:.2f}, {e.high:.2f}] ({e.source})"
+    """The exponent, its interval and (when fitted) the complexity class by AIC, then where it was measured."""
+    return f"{e.text()} ({e.source})"
+
+
+def _class(e) -> str:
+    """``, class n^2 (w 1.00)`` after an exponent (the whole choice is in ``measured``), or nothing when the
+    class was not fitted."""
+    return "" if e.classes is None else f", class {e.classes.chosen} (w {e.classes.weight:.2f})"
 
 
 def complexity(c: dict, source: str, ev: Evidence) -> Claim:
@@ -186,23 +193,26 @@ def complexity(c: dict, source: str, ev: Evidence) -> Claim:
     above = [e for e in typical + witnesses if e.low > deg + tol]
     paper = [e for e in ev.exponents if e.detector == det and e.cost_model == "paper"]
     measured = "typical: " + "; ".join(f"{det} true: {_growth(e)}" for e in typical)
-    measured += "".join(f"; paper cost model F^{e.exponent:.2f}" for e in paper)
+    measured += "".join(f"; paper cost model F^{e.exponent:.2f}{_class(e)}" for e in paper)
     if witnesses:
         measured += "; worst case: " + "; ".join(f"{det} true: {_growth(e)}" for e in witnesses)
     label = {id(e): e.source.split(" (")[0].split(":")[0] for e in typical + witnesses}
     if worst > deg:
         verdict, why = FAILS, f"the annotations' tight worst case is of degree {worst} in n, above n^{deg}"
     elif above:
-        verdict, why = FAILS, f"{label[id(above[0])]} grows faster than n^{deg}: F^{above[0].exponent:.2f}"
+        verdict, why = (
+            FAILS,
+            f"{label[id(above[0])]} grows faster than n^{deg}: F^{above[0].exponent:.2f}{_class(above[0])}",
+        )
     else:
         verdict = HOLDS
         why = f"the annotations' tight worst case is of degree {worst} in n and no measured family grows faster; " + (
             f"the bound is reached by the {label[id(steepest)]} (F^{steepest.exponent:.2f} "
-            f"[{steepest.low:.2f}, {steepest.high:.2f}])"
+            f"[{steepest.low:.2f}, {steepest.high:.2f}]{_class(steepest)})"
             if steepest.high >= deg - tol
-            else f"no measured family reaches it (steepest: F^{steepest.exponent:.2f})"
+            else f"no measured family reaches it (steepest: F^{steepest.exponent:.2f}{_class(steepest)})"
         )
-    typical_text = ", ".join(f"F^{e.exponent:.2f} ({label[id(e)]})" for e in typical)
+    typical_text = ", ".join(f"F^{e.exponent:.2f}{_class(e)} ({label[id(e)]})" for e in typical)
     lower = all(e.high < deg - tol for e in typical)
     why += f". Typical growth: {typical_text}" + (
         f", lower, which an upper bound allows (growth below n^{deg} does not contradict O(n^{deg}))" if lower else ""
