@@ -16,10 +16,14 @@ import os
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from benchmarks.common import ROOT
+
+if TYPE_CHECKING:
+    from silcount.mesh.model import Mesh
 
 MAX_FACES = 6_000_000
 THINGI = "thingi10k-sizes.csv"
@@ -51,7 +55,7 @@ class Recipe:
 
 
 @cache
-def _sources() -> tuple[tuple[str, object], ...]:
+def _sources() -> tuple[tuple[str, Mesh], ...]:
     """Every corpus file silcount loads, as (label, Mesh), by label."""
     from silcount.errors import SilcountError
     from silcount.mesh.io import load_mesh

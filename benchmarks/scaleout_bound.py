@@ -44,9 +44,9 @@ if LOG:  # in the measured sweep's client and, re-imported as the main module, i
 
     _audit = _schedule.audit_task
 
-    def _logged(label, data, level, settings):
+    def _logged(label, data, level, settings, part=None):
         start = time.time()
-        result = _audit(label, data, level, settings)
+        result = _audit(label, data, level, settings, part)
         with open(Path(LOG) / f"{os.getpid()}.txt", "a") as out:
             out.write(f"{start!r} {time.time()!r}\n")
         return result

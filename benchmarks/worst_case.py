@@ -57,7 +57,7 @@ def rediscovery(method: str) -> list[dict]:
                 "faces": n.get("faces"),
                 "hand_faces": hand.faces,
                 "over": n.get("over"),
-                "witness": r.outcome.genome.rule() + f", level={r.outcome.genome.level}" if r.found else "",
+                "witness": _witness_name(r.outcome.genome) if r.found else "",
                 "load": load_line(),
             }
         )
@@ -82,6 +82,11 @@ def rediscovery(method: str) -> list[dict]:
     out.append(row)
     print(_line(row), flush=True)
     return out
+
+
+def _witness_name(genome) -> str:
+    """The found witness's rule and level, as the rows print it."""
+    return f"{genome.rule()}, level={genome.level}"
 
 
 def _line(r: dict) -> str:

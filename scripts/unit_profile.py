@@ -56,8 +56,7 @@ def one(path: str, detectors: str, lights: int) -> dict:
     from silcount.mesh.shapes import icosphere
     from silcount.study.work import Settings, audit_task
 
-    names = tuple(detectors.split(",")) if detectors else None
-    settings = Settings(lights=lights, **({"detectors": names} if names else {}))
+    settings = Settings(lights=lights, detectors=tuple(detectors.split(","))) if detectors else Settings(lights=lights)
     audit_task("warm.ply", ply_bytes(icosphere(2)), 0, settings)
     base = peak_rss()
     data = Path(path).read_bytes()
@@ -114,7 +113,7 @@ def main() -> None:
         "NUMBA_NUM_THREADS": "1",
         "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
     }
-    profile = {
+    profile: dict = {
         "about": {
             "machine": f"{platform.machine()}, {os.cpu_count()} cores",
             "date": date.today().isoformat(),
@@ -123,7 +122,7 @@ def main() -> None:
         },
         "units": [],
     }
-    done = {}
+    done: set[tuple[str, str, int]] = set()
     if args.resume and args.out.is_file():
         profile["units"] = json.loads(args.out.read_text())["units"]
         done = {(u["file"], u["detectors"], u["lights"]) for u in profile["units"]}
