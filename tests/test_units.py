@@ -101,3 +101,17 @@ def test_a_collection_with_one_huge_mesh_is_split_so_that_no_worker_waits_long()
     assert unsplit - idle > 0.5 * unsplit  # the tail unsplit: over half the sweep
     # split, no worker waits long, and the sweep is shorter, though each batch loads the mesh again
     assert two.tail_s < 0.1 * two.makespan_s and two.makespan_s < unsplit
+
+
+def test_a_detector_with_no_measured_units_costs_the_dearest_measured_one_alone(monkeypatch):
+    """A plug-in's name has no fit (the corpus once failed with KeyError on it): the reference's 0.3 F s
+    plus what the dearer measured detector (gaussmap, 0.4 F) adds to it, 0.1 F; in memory its 0.4 F."""
+    from silcount.detectors import DetectorSpec, registry
+
+    registry.names()  # the built-ins and plug-ins first, then this test's detector, removed afterwards
+    monkeypatch.setitem(registry._SPECS, "mine", DetectorSpec(name="mine", label="mine", detect=print))
+    monkeypatch.setitem(registry._SOURCES, "mine", "registered")
+    m = model_from(toy_units())
+    s = Settings(detectors=("reference", "mine"), timing=False)
+    assert m.seconds(1e6, s) == pytest.approx(0.3 + 0.1)
+    assert m.peak_bytes(1e6, s) == pytest.approx(100 * MIB + MARGIN * 700e6, rel=1e-9)

@@ -25,7 +25,8 @@ Estimates (docs/corpus.md, "Memory"):
   that covers every measured unit (``tests/test_units.py`` checks it against the committed data).
 
 Each fit carries the complexity class of its points (``power_fit``'s ``classes``,
-:mod:`silcount.study.classes`), which ``scale.md`` shows; the estimates use the power law.  Kinds of
+:mod:`silcount.study.classes`), which ``scale.md`` shows; the estimates use the power law.  A detector
+with no measured units (a plug-in) is estimated as the dearest measured detector alone.  Kinds of
 mesh are not distinguished: every fit is over all the measured meshes, and :func:`UnitModel.fit_of` is
 the one place a kind would choose its own fit.
 """
@@ -42,6 +43,7 @@ import numpy as np
 
 from silcount.detectors import get
 from silcount.detectors import names as registered
+from silcount.detectors.registry import source_of
 from silcount.study.fits import power_fit
 from silcount.study.work import Settings
 
@@ -81,15 +83,20 @@ class UnitModel:
     def cost(self, faces: float, detectors, lights: int, what: str) -> float:
         """The fitted ``what`` of ``detectors`` on ``faces`` faces under ``lights`` lights (module docstring)."""
         names = tuple(detectors)
+        known = tuple(d for d in names if source_of(d) == "built-in")  # the profile measured the built-ins
         whole = self._at(ALL, what, faces)
-        if not set(names) >= set(registered()):
-            alone = {d: self._at(d, what, faces) for d in names}
+        if not set(known) >= {d for d in registered() if source_of(d) == "built-in"}:
+            alone = {d: self._at(d, what, faces) for d in known}
             if what == "seconds":  # the reference once, and what each other detector adds to it
                 ref = self._at("reference", what, faces)
                 part = ref + sum(max(t - ref, 0.0) for d, t in alone.items() if d != "reference")
             else:  # each detector's whole peak, the reference's included: results and caches pile up
                 part = sum(alone.values())
             whole = min(whole, part)
+        if unknown := len(names) - len(known):  # a plug-in: as dear as the dearest measured detector alone
+            measured = {d for d, w in self.fits if w == what and d != ALL}
+            ref = self._at("reference", what, faces) if what == "seconds" else 0.0
+            whole += unknown * max(self._at(d, what, faces) - ref for d in measured)
         p = self.light_share[what]
         return whole * ((1.0 - p) + p * lights / self.lights)
 
