@@ -43,6 +43,7 @@ import numba
 from benchmarks.corpus import corpus_dir, run_config
 from silcount.study import find_files, scale, schedule
 from silcount.study.cache import Cache, cache_key
+from silcount.study.units import faces_of
 from silcount.study.work import Settings, audit_task
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -65,8 +66,8 @@ def items_of(folder: Path) -> list[schedule.Item]:
     items = []
     for label, path in find_files([folder]):
         data = path.read_bytes()
-        items.append(schedule.Item(label, data, hashlib.sha256(data).hexdigest(), 0))
-    return sorted(items, key=lambda it: -schedule.unit_cost(it))
+        items.append(schedule.Item(label, data, hashlib.sha256(data).hexdigest(), 0, None, faces_of(path)))
+    return sorted(items, key=lambda it: -schedule.unit_cost(it, SETTINGS))
 
 
 def unit_times(items: list[schedule.Item]) -> tuple[list[dict], list[float]]:

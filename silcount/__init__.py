@@ -17,7 +17,8 @@ package's entry point in the group ``silcount.detectors`` (``docs/extending.md``
 ``silcount.claims()`` and ``silcount.tables()`` return the reports' pandas
 frames; ``silcount.corpus(paths, ...)`` sweeps a collection of meshes
 (:mod:`silcount.study`); ``silcount.frame_stages(scene, method, ...)`` counts and times a shadow-volume
-frame stage by stage (:mod:`silcount.render.stages`).
+frame stage by stage (:mod:`silcount.render.stages`); ``silcount.worst_case(detector, ...)`` searches for a
+worst case (:mod:`silcount.worstcase`).
 """
 
 from __future__ import annotations
@@ -86,6 +87,7 @@ _LAZY: dict[str, str] = {
     "DetectorSpec": "silcount.detectors.spec",
     "register_detector": "silcount.detectors.registry",
     "frame_stages": "silcount.render.stages",
+    "worst_case": "silcount.worstcase",
 }
 _LIVE = {"DETECTORS"}  # read on every access: registering a detector changes it
 
@@ -108,6 +110,7 @@ if TYPE_CHECKING:
     from silcount.papers.tables import tables_frame as tables
     from silcount.render.stages import frame_stages
     from silcount.study import corpus
+    from silcount.worstcase import worst_case
 
 
 def __getattr__(name: str) -> Any:
@@ -138,6 +141,7 @@ __all__ = [
     "tables",
     "corpus",
     "frame_stages",
+    "worst_case",
     "load_mesh",
     "PointLight",
     "DirectionalLight",

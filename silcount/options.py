@@ -29,3 +29,9 @@ PAPER_HELP = (
     "a paper given as a folder of TOML files (docs/papers-as-data.md; repeatable); default: the built-in papers and "
     "those installed under the entry-point group silcount.papers"
 )
+WORST_CASE_GOALS: tuple[str, ...] = ("exceed", "family", "per-output")
+"""``silcount worst-case --goal`` (:mod:`silcount.worstcase.goals`)."""
+WORST_CASE_METHODS: tuple[str, ...] = ("evolve", "hypothesis")
+"""``silcount worst-case --method`` (:mod:`silcount.worstcase.search`)."""
+WORST_CASE_KINDS: tuple[str, ...] = ("add", "mul", "cmp", "read", "write", "total", "any")
+"""``silcount worst-case --kind``: an operation kind, the five's total, or any one kind (goal ``exceed``)."""

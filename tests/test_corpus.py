@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 
 from silcount.detectors import DETECTORS
 from silcount.detectors.adjacency import silhouette_edge_ids
+from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, PointLight
 from silcount.mesh.model import from_polygons
 from silcount.mesh.shapes import icosphere, plane, quad_cube
@@ -216,22 +217,21 @@ def test_the_largest_units_start_first_and_run_on_the_cores_per_worker(folder, m
     real = schedule_mod.audit_task
     started: list[tuple[str, int, int]] = []
 
-    def record(label, data, level, settings):
+    def record(label, data, level, settings, *part):
         started.append((label, level, numba.get_num_threads()))
-        return real(label, data, level, settings)
+        return real(label, data, level, settings, *part)
 
     monkeypatch.setattr(schedule_mod, "audit_task", record)
     monkeypatch.setattr(schedule_mod.os, "cpu_count", lambda: 4)
     result = corpus([folder], cache=False, subdivide=(0, 1), **SMALL)
-    sizes = {p.name: p.stat().st_size for p in folder.rglob("*.obj")}
-    cost = [sizes[Path(label).name] * 4**level for label, level, _ in started]
+    faces = {p.name: load_mesh(p).n_faces for p in folder.rglob("*.obj")}  # the estimate grows with the faces
+    cost = [faces[Path(label).name] * 4**level for label, level, _ in started]
     assert len(started) == 8 and cost == sorted(cost, reverse=True)  # one worker: strictly in cost order
     assert {t for *_, t in started} == {min(4, numba.config.NUMBA_NUM_THREADS)}  # 4 cores // 1 worker
     assert result.document == corpus([folder], cache=False, subdivide=(0, 1), **SMALL).document
     started.clear()
     corpus([folder], cache=False, **{**SMALL, "workers": 4})
     assert {t for *_, t in started} == {1}  # 4 cores // 4 workers
-
 
 
 def test_process_workers_are_handed_one_unit_at_a_time(folder):
@@ -243,7 +243,7 @@ def test_process_workers_are_handed_one_unit_at_a_time(folder):
     in_flight: list[int] = []
     with Callback(pretask=lambda key, dsk, state: in_flight.append(len(state["running"]))):
         result = corpus([folder], cache=False, **{**SMALL, "scheduler": "processes", "workers": 2})
-    assert len(in_flight) == 4 and max(in_flight) <= 2, in_flight
+    assert len(in_flight) >= 4 and max(in_flight) <= 2, in_flight  # a large unit may run as several tasks
     assert result.document == corpus([folder], cache=False, **SMALL).document
 
 

@@ -112,6 +112,26 @@ def test_cycles_many_is_cycles_bit_for_bit(tallies):
         assert got.tobytes() == expected.tobytes(), profile.name
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.lists(st.one_of(st.none(), count), min_size=len(ALL), max_size=len(ALL)), max_size=12))
+def test_cycles_of_counts_is_cycles_bit_for_bit(rows):
+    # Columns (a batch of lights): each row's tally holds the kinds whose count is not None, in ALL's order;
+    # an absent kind is a negative count.  The same doubles as cycles() of each row's dict.
+    profiles = list(cycles.builtin_profiles().values())
+    tallies = [{k: c for k, c in zip(ALL, row, strict=True) if c is not None} for row in rows]
+    counts = np.array([[-1 if c is None else c for c in row] for row in rows], dtype=np.int64)
+    for profile, got in zip(profiles, cycles.cycles_of_counts(profiles, ALL, counts), strict=True):
+        expected = np.array([float(profile.cycles(t)) for t in tallies])
+        assert got.tobytes() == expected.tobytes(), profile.name
+
+
+def test_cycles_of_counts_fails_on_an_unweighed_kind_naming_it():
+    profiles = [cycles.builtin_profiles()["unit"]]
+    assert cycles.cycles_of_counts(profiles, ("add", "fma"), np.array([[1, 0], [2, -1]]))[0].tolist() == [1.0, 2.0]
+    with pytest.raises(BadArgument, match="fma"):
+        cycles.cycles_of_counts(profiles, ("add", "fma"), np.array([[1, -1], [1, 2]]))
+
+
 def test_cycles_many_fails_on_an_unweighed_kind_naming_it():
     profiles = [cycles.builtin_profiles()["unit"]]
     assert cycles.cycles_many(profiles, [{"add": 1, "fma": 0}])[0].tolist() == [1.0]

@@ -29,6 +29,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("silcount.plots", "silcount.counting", "silcount.mesh"),  # independent of each other
     ("silcount.detectors",),
     ("silcount.render", "silcount.study", "silcount.calibrate"),  # the measurements, independent of each other
+    ("silcount.worstcase",),  # the worst-case search: fits from study, its witnesses judged by papers
     ("silcount.papers",),
     ("silcount.audit",),
     ("silcount.cli",),
@@ -368,9 +369,9 @@ def test_the_help_probe_sees_a_heavy_import():
 def test_every_subcommand_module_is_registered():
     """``silcount/cli/<name>.py`` is a subcommand exactly when COMMANDS names it; each has its two functions."""
     modules = {p.stem for p in (PKG / "cli").glob("*.py")} - {"__init__", "main"}
-    assert modules == set(COMMANDS)
+    assert modules == {name.replace("-", "_") for name in COMMANDS}
     for name in COMMANDS:
-        module = importlib.import_module(f"silcount.cli.{name}")
+        module = importlib.import_module(f"silcount.cli.{name.replace('-', '_')}")
         assert callable(module.add_arguments) and callable(module.run), name
 
 

@@ -68,9 +68,32 @@ def test_ta_on_the_strip_witness_grows_as_n_squared():
 
 
 def test_witness_evidence_is_an_exponent_at_least_1_9():
-    (e,) = witness.witness_evidence()
+    (e,) = witness.witness_evidence(("ta",))
     assert e.detector == "ta" and e.cost_model == "true" and e.exponent >= 1.9 and e.low <= 2.0 <= e.high + 0.05
     assert "witness family 'closed'" in e.source
+
+
+def test_a_detector_without_a_hand_built_family_gets_the_one_the_search_finds():
+    """VnV has no hand-built family: its O() claim reads the search's, which says it was found and its budget;
+    VnV tests every (edge, face) pair, so any family of it grows as F^2 (E F, E about 1.5 F on a closed mesh)."""
+    (e,) = witness.witness_evidence(("vnv",))
+    assert e.detector == "vnv" and "found by silcount's search" in e.source and "not built by hand" in e.source
+    assert f"of {witness.FAMILY_BUDGET} evaluations" in e.source
+    assert 1.95 <= e.exponent <= 2.05
+
+
+def test_a_printed_line_without_a_hand_built_execution_is_judged_with_a_found_one(monkeypatch):
+    """Without its pillow, HSD's line 1 still FAILS: the search finds an execution exceeding it, re-run by the
+    naive engine, and the claim says the witness was found, not built (before the search: a ValueError)."""
+    from silcount.papers.claims import derivations
+
+    hand = witness.bound_witness("hsd2011-hsd")
+    monkeypatch.delitem(witness.BOUND_WITNESSES, "hsd2011-hsd")
+    claim = derivations._upper_bound("hsd2011-hsd")
+    assert claim.verdict == FAILS
+    assert "found by silcount's worst-case search" in claim.measured and "naive hsd" in claim.measured
+    found = witness.found_bound_witness("hsd2011-hsd")
+    assert found is not None and found.over and found.faces < hand.faces
 
 
 # ---- the rule -------------------------------------------------------------------------------------------------
@@ -162,5 +185,6 @@ def test_upper_bound_fails_name_their_executed_witness():
         claim = derivations._upper_bound(model)
         assert claim.verdict == FAILS
         assert claim.measured and "naive" in claim.measured and witness.bound_witness(model).mesh in claim.measured
+        assert "hand-built witness" in claim.measured
         assert "v = 1" not in claim.reason.split("Branch counts")[0]
         assert "achievable execution" not in claim.reason

@@ -50,6 +50,7 @@ Decisions, named:
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -279,7 +280,7 @@ def run_audit(
     with progress(len(lights) * (len(todo) + 1), f"audit {mesh.name}", enabled=None if not quiet else False) as bar:
         # every run under all the lights at once (detect_many: identical to detect per light), each light's
         # time its share of the pass; the reference first, always (a requested fast reference run is it)
-        batches: dict[str, tuple[list[Silhouette], float]] = {}
+        batches: dict[str, tuple[Sequence[Silhouette], float]] = {}
         refused: dict[str, str] = {}
         for key, name, variant in [("", "reference", "intended"), *todo]:
             if key and is_reference_run(name, settings.engine):

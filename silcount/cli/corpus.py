@@ -67,6 +67,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="Dask's in-process threads or processes, or a dask.distributed scheduler's address (default processes)",
     )
     parser.add_argument("--workers", type=int, default=None, metavar="N", help="local workers (default: CPU count)")
+    parser.add_argument(
+        "--memory-budget",
+        default=None,
+        metavar="SIZE",
+        help="a worker's peak memory, e.g. 4GB: a larger mesh runs in parts or is refused (default: 3/4 of the "
+        "machine's memory over the local workers; none on a cluster)",
+    )
     cache = parser.add_mutually_exclusive_group()
     cache.add_argument("--cache", type=Path, default=None, metavar="DIR", help="cache folder (default ~/.cache/...)")
     cache.add_argument("--no-cache", action="store_true", help="neither read nor write the cache")
@@ -110,6 +117,7 @@ def run(args: argparse.Namespace) -> int:
         timing=not args.no_time,
         time_lights=args.time_lights,
         quiet=args.quiet,
+        memory_budget=args.memory_budget,
     )
     sys.stdout.write(format_corpus(result, args.format))
     if args.out is not None:

@@ -49,8 +49,10 @@ COMMANDS: dict[str, str] = {
     "faces",
     "calibrate": "do the counts predict time? time the algorithms' compiled loops and predict them from tally x cycle "
     "profile",
+    "worst-case": "search meshes, face orders and lights for a detector's worst case: a bound exceeded, the "
+    "fastest-growing family, the most work per silhouette edge",
 }
-"""Each subcommand's one-line help; its module is ``silcount.cli.<name>``."""
+"""Each subcommand's one-line help; its module is ``silcount.cli.<name>`` (a ``-`` in the name is ``_``)."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,7 +70,7 @@ class _Commands(argparse._SubParsersAction):
     def __call__(self, parser, namespace, values, option_string=None):
         name = values[0]
         if name in COMMANDS and not self._name_parser_map[name].get_default("_run"):
-            module = importlib.import_module(f"silcount.cli.{name}")
+            module = importlib.import_module(f"silcount.cli.{name.replace('-', '_')}")
             module.add_arguments(self._name_parser_map[name])
             self._name_parser_map[name].set_defaults(_run=module.run)
         super().__call__(parser, namespace, values, option_string)

@@ -2,7 +2,8 @@
 
 The parts, each a module exposing ``report(out_dir: Path) -> list[Path]``:
 claims, tables, figures (``silcount.cli.claims``/``tables``/``figures``),
-the renders of the shared scenes (``silcount.cli.render``), the frame budget
+the renders of the shared scenes (``silcount.cli.render``), a worst-case row per detector
+(``silcount.cli.worst_case``, into ``<out>/worst-case/``), the frame budget
 (:func:`frame_budget`, from the committed stage times), and the
 audit of every built-in mesh (:func:`report` here, into ``<out>/audit/``).
 
@@ -26,7 +27,7 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from silcount.cli import calibrate, claims, corpus, figures, tables
+from silcount.cli import calibrate, claims, corpus, figures, tables, worst_case
 from silcount.cli import render as renders
 from silcount.cli.audit import EXTENSIONS
 from silcount.errors import SilcountError
@@ -46,6 +47,7 @@ PARTS = (
     ("render", renders.report),
     ("corpus", corpus.report),
     ("calibrate", calibrate.report),
+    ("worst-case", worst_case.report),
     ("frame", frame_budget),
 )
 # icosphere5 (20,480 faces) is left out: EESD's literal variant costs O(E x F) even in the fast engine

@@ -104,6 +104,26 @@ def cycles_many(profiles: Sequence[Profile], tallies: Sequence[Mapping[str, int]
     return out
 
 
+def cycles_of_counts(profiles: Sequence[Profile], kinds: Sequence[str], counts: np.ndarray) -> list[np.ndarray]:
+    """:func:`cycles_many` of tallies held as columns (a detector's batch of lights): ``counts`` (n, kinds)
+    integers, negative where a light's tally lacks the kind, each tally's kinds in the order of ``kinds``.
+    The same doubles, bit for bit: the weighted counts are added kind by kind in that order (an absent or
+    zero count adds ``+0.0``); a kind counted but not weighed fails, naming it."""
+    counts = np.asarray(counts, dtype=np.int64).reshape(-1, len(kinds))
+    values = np.where(counts >= 0, counts, 0).astype(np.float64)
+    out = []
+    for profile in profiles:
+        total = np.zeros(counts.shape[0])
+        for j, k in enumerate(kinds):
+            if k in profile.weights:
+                total += profile.weights[k] * values[:, j]
+            elif np.any(values[:, j]):
+                i = int(np.flatnonzero(values[:, j])[0])
+                profile.cycles({c: int(v) for c, v in zip(kinds, counts[i].tolist(), strict=True) if v >= 0})
+        out.append(total)
+    return out
+
+
 def cycles_dir() -> Path:
     return models.models_dir() / "cycles"
 

@@ -10,7 +10,8 @@ The detectors: ``reference.py``, ``ta.py``, ``vnv.py``, ``hsd.py``; in ``eesd/``
 routines and point-on-plane search; in ``hierarchy/``, ``gaussmap`` and ``cones`` with the bounded plane tree
 they share.  Beside them: ``spec.py`` (the record),
 ``registry.py`` (the registry), ``builtin.py`` (the built-ins' specs), ``result.py`` (the result type,
-:class:`Silhouette`), ``base.py`` (counted visibility and assembling the result), ``adjacency.py``
+:class:`Silhouette`), ``batch.py`` (many lights' results, columnar: :class:`SilhouetteBatch`), ``base.py``
+(counted visibility and assembling the result), ``adjacency.py``
 (light-facing flags and the reference rule, shared by all) and ``edge_array.py`` (TA's and HSD's array
 S).  :func:`runs` names each run of a sweep over
 detectors and variants.
@@ -22,6 +23,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from silcount.detectors.batch import SilhouetteBatch
 from silcount.detectors.registry import get, names, register_detector, specs, with_role
 from silcount.detectors.result import Silhouette, compare_with_reference, differences
 from silcount.detectors.spec import ENGINES, VARIANTS, DetectorSpec
@@ -102,21 +104,28 @@ def _check(name: str, variant: str, engine: str) -> DetectorSpec:
 @fitted_call
 def detect_many(
     mesh: Mesh, lights: Sequence[Light], name: str = "reference", variant: str = "intended", engine: str = "fast"
-) -> list[Silhouette]:
+) -> SilhouetteBatch:
     """:func:`detect` for each of ``lights``, identical results, in one pass where the algorithm allows.
 
-    A detector whose spec has ``detect_many(mesh, lights, variant)`` batches its ``fast`` engine: the
-    ``reference`` packs 64 lights' facing flags into one word per face and finds every light's silhouette
-    in one XOR pass over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`); EESD tests every
-    light's rays against their edges' own faces in one pass over the edges
-    (:func:`silcount.detectors.eesd.rays.own_blocked`).  The others, and every ``naive`` engine, run per
-    light.  ``tests/test_detect_many.py`` checks every field against :func:`detect`.
+    The result is a :class:`.batch.SilhouetteBatch`: a sequence of :class:`Silhouette` (``batch[i]``,
+    iteration; each made when asked for, equal to :func:`detect`'s for that light) whose arrays hold every
+    light's edges as CSR and its steps, tallies and ties, for consumers of many lights.  Every built-in's
+    ``fast`` engine batches: the ``reference`` packs 64 lights' facing flags into one word per face and finds
+    every light's silhouette in one XOR pass over the edges (:func:`silcount.detectors.adjacency.many_edge_ids`);
+    VnV counts each light's light-facing sides from those words in one compiled loop over the lights; TA and HSD
+    replay S for each light on threads side by side; EESD tests every light's rays against their edges' own
+    faces in one pass over the edges (:func:`silcount.detectors.eesd.rays.own_blocked`); ``gaussmap`` and
+    ``cones`` run their compiled query per light.  None makes a Python object per light.  A plug-in's
+    ``detect_many`` may return a batch or a list of :class:`Silhouette` (wrapped here), and every ``naive``
+    engine runs per light.  ``tests/test_detect_many.py`` checks every field against :func:`detect`.
     """
     spec = _check(name, variant, engine)
     lights = list(lights)
     if engine == "fast" and spec.detect_many is not None:
-        return spec.detect_many(mesh, lights, variant)
-    return [spec.detect(mesh, light, variant=variant, engine=engine) for light in lights]
+        got = spec.detect_many(mesh, lights, variant)
+    else:
+        got = [spec.detect(mesh, light, variant=variant, engine=engine) for light in lights]
+    return got if isinstance(got, SilhouetteBatch) else SilhouetteBatch.of_silhouettes(got, mesh)
 
 
 __all__ = [
@@ -136,6 +145,7 @@ __all__ = [
     "variants_of",
     "with_role",
     "Silhouette",
+    "SilhouetteBatch",
     "compare_with_reference",
     "differences",
 ]

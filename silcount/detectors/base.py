@@ -11,7 +11,7 @@ so the ``fast`` engines charge exactly what the ``naive`` ones execute.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from functools import cache
 from typing import TypeVar
@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
+from silcount.detectors.batch import SilhouetteBatch, columns_of, csr_offsets
 from silcount.detectors.result import EngineRun, Silhouette
 from silcount.detectors.spec import ENGINES, VARIANTS
 from silcount.mesh.lights import DirectionalLight, Light, PointLight
@@ -88,6 +89,22 @@ def add_scaled(total: dict[str, int], cost: dict[str, int], times: int) -> None:
     """``total += times * cost``, kind by kind."""
     for kind, c in cost.items():
         total[kind] = total.get(kind, 0) + int(c) * int(times)
+
+
+def add_scaled_many(total: dict[str, np.ndarray], cost: Mapping[str, int | np.ndarray], times) -> None:
+    """:func:`add_scaled` for many lights at once: ``times`` and the costs one int64 value per light (or one
+    for all); the kinds enter ``total`` in the same order."""
+    times = np.asarray(times, dtype=np.int64)
+    for kind, c in cost.items():
+        total[kind] = total.get(kind, 0) + np.asarray(c, dtype=np.int64) * times
+
+
+def visibility_cost_many(lights: Sequence[Light]) -> dict[str, np.ndarray]:
+    """:func:`visibility_true_cost` of each light, as kind -> (n,) int64 (both kinds of light count the same
+    kinds, in the same order)."""
+    costs = [visibility_true_cost(light) for light in lights]
+    kinds = dict.fromkeys(k for c in costs for k in c) if costs else visibility_true_cost(DirectionalLight((0, 0, 1)))
+    return {k: np.array([c.get(k, 0) for c in costs], dtype=np.int64) for k in kinds}
 
 
 def oriented_edges(mesh: Mesh, edge_ids: np.ndarray, is_facing: np.ndarray) -> np.ndarray:
@@ -199,8 +216,59 @@ def make_silhouette(
     )
 
 
+def make_batch(
+    mesh: Mesh,
+    lights: Sequence[Light],
+    detector: str,
+    variant: str,
+    ids: Sequence[np.ndarray],
+    steps: Mapping[str, np.ndarray | int],
+    true: Mapping[str, np.ndarray | int],
+    ties: np.ndarray | Sequence[int],
+    paper_model: str | None,
+    paper_params: dict[str, float] | None = None,
+    orient: Callable[[int, np.ndarray], np.ndarray] | None = None,
+    notes: dict | None = None,
+    light_notes: dict[str, list] | None = None,
+) -> SilhouetteBatch:
+    """Assemble the ``fast`` engine's :class:`.batch.SilhouetteBatch` for ``lights``, as :func:`make_silhouette`
+    assembles one light's result: each light's ids sorted and distinct (``ids[i]``, any order), steps and
+    ``true`` tallies name -> one count per light (KINDS first), the paper parameters of the mesh."""
+    n = len(lights)
+    uniq = [unique_ids(x) for x in ids]
+    params = {"e_n": mesh.n_edges, "f_n": mesh.n_faces, "m": mesh.mean_sides}
+    if paper_params:
+        params.update(paper_params)
+    step_arr, step_names = columns_of(steps, n)
+    true_arr, kinds = columns_of(true, n, KINDS)
+    np.maximum(true_arr[:, : len(KINDS)], 0, out=true_arr[:, : len(KINDS)])  # every light's tally has KINDS
+    return SilhouetteBatch(
+        detector=detector,
+        variant=variant,
+        engine="fast",
+        offsets=csr_offsets([u.size for u in uniq]),
+        ids=np.concatenate(uniq) if uniq else np.zeros(0, dtype=np.int64),
+        step_names=step_names,
+        steps=step_arr,
+        kinds=kinds,
+        true=true_arr,
+        ties=np.asarray(ties, dtype=np.int64).reshape(n),
+        paper_model=paper_model,
+        paper_params=params,
+        mesh=mesh,
+        lights=list(lights),
+        notes=dict(notes or {}),
+        light_notes=dict(light_notes or {}),
+        orient=orient,
+    )
+
+
 __all__ = [
     "MeshMemory",
+    "make_batch",
+    "SilhouetteBatch",
+    "add_scaled_many",
+    "visibility_cost_many",
     "counted_face_normal",
     "counted_visibility",
     "visibility_true_cost",

@@ -43,7 +43,15 @@ import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
 from silcount.detectors.adjacency import edge_faces, edge_ids_of, facing_flags, many_edge_ids, shared_facing_flags
-from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, counted_visibility, visibility_true_cost
+from silcount.detectors.base import (
+    EngineRun,
+    MeshMemory,
+    SilhouetteBatch,
+    add_scaled,
+    add_scaled_many,
+    counted_visibility,
+    visibility_true_cost,
+)
 from silcount.detectors.edge_array import (
     CountedEdgeArray,
     Replay,
@@ -55,7 +63,7 @@ from silcount.detectors.edge_array import (
 )
 from silcount.detectors.result import Silhouette
 from silcount.detectors.spec import DetectorSpec
-from silcount.detectors.ta import array_true_tally, edges_in, finish, toggle
+from silcount.detectors.ta import array_true_tally, edges_in, finish, finish_many, many_counts, toggle
 from silcount.mesh.coplanar import Merge, merge
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
@@ -140,18 +148,21 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     return _finish(mesh, light, variant, engine, mg, run, reference)
 
 
-def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> SilhouetteBatch:
     """:func:`detect` (``fast``) for each light, the lights' replays of S on threads side by side
     (:func:`.edge_array.replay_many`) and their reference edges in one pass
-    (:func:`.adjacency.many_edge_ids`): the same answers and tallies."""
+    (:func:`.adjacency.many_edge_ids`), as one :class:`.batch.SilhouetteBatch`: the same answers and tallies."""
     mg = merge(mesh, CRITERION[variant])
     p0, nrm = edge_faces(mesh)[:2]
     many = replay_many(mg.poly_start, _poly_keys(mesh, mg), p0[mg.rep], nrm[mg.rep], lights, 2 * mesh.n_edges)
     refs = many_edge_ids(mesh, lights)
-    return [
-        _finish(mesh, light, variant, "fast", mg, _run(mesh, light, mg, *got), ref[0])
-        for light, got, ref in zip(lights, many, refs, strict=True)
-    ]
+    P = mg.n_polygons
+    steps, true = many_counts(many, lights, P)
+    add_scaled_many(true, REPRESENTATIVE_COST, P)
+    inside = [int(np.count_nonzero(mg.interior[ref[0]])) for ref in refs]
+    notes = {"merge": mg.summary(), "representative": "lowest-index face of each polygon"}
+    own = {"reference_edges_inside_polygons": inside}
+    return finish_many(mesh, lights, NAME, variant, many, steps, true, PAPER_MODEL, mg.paper_params(), own, notes)
 
 
 def plain_setup(mesh: Mesh) -> None:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from silcount.detectors.batch import SilhouetteBatch
     from silcount.detectors.result import Silhouette
     from silcount.mesh.lights import Light
     from silcount.mesh.model import Mesh
@@ -50,8 +51,9 @@ class DetectorSpec:
       ``plain_quadratic``: they visit every (edge, face) pair;
     * ``growth_variant``: the variant whose measured growth is set beside the paper's closed form;
     * ``style``: its (colour, marker) in every figure;
-    * ``detect_many(mesh, lights, variant) -> list[Silhouette]``: the ``fast`` engine for many lights in one
-      pass, the same results as ``detect`` per light, or ``None``.
+    * ``detect_many(mesh, lights, variant)``: the ``fast`` engine for many lights in one pass, the same results
+      as ``detect`` per light, or ``None``; it returns a :class:`.batch.SilhouetteBatch` (columnar: no
+      Python object per light) or a ``list[Silhouette]``, which :func:`silcount.detectors.detect_many` wraps.
     """
 
     name: str
@@ -67,7 +69,7 @@ class DetectorSpec:
     plain_quadratic: bool = False
     growth_variant: str = "intended"
     style: tuple[str, str] = ("#000000", "x")
-    detect_many: Callable[[Mesh, list[Light], str], list[Silhouette]] | None = None
+    detect_many: Callable[[Mesh, list[Light], str], SilhouetteBatch | list[Silhouette]] | None = None
 
     def __post_init__(self) -> None:
         """Check every field's form: a spec that gets past here runs in every consumer."""

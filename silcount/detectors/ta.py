@@ -54,6 +54,8 @@ charges the same counts.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from silcount.counting.arithmetic import Memory, OpCounter, plain
@@ -62,10 +64,14 @@ from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
     Silhouette,
+    SilhouetteBatch,
     add_scaled,
+    add_scaled_many,
     counted_visibility,
+    make_batch,
     make_silhouette,
     unique_ids,
+    visibility_cost_many,
     visibility_true_cost,
 )
 from silcount.detectors.edge_array import (
@@ -95,16 +101,17 @@ INIT_COST = {"read": 2, "mul": 1, "add": 2, "write": 1}  # literal start: one pa
 
 
 def array_true_tally(
-    searched: int, examined: int, deleted: int, added: int, shifted: int, facing_polygons: int
-) -> dict[str, int]:
-    """``true`` cost of the side loop and S operations from the replay's counts (shared with HSD)."""
-    true: dict[str, int] = {}
-    add_scaled(true, FACING_FACE_COST, facing_polygons)
-    add_scaled(true, SIDE_COST, searched)
-    add_scaled(true, {"read": 1, "cmp": 1}, examined)
-    add_scaled(true, DELETE_COST, deleted)
-    add_scaled(true, {"read": 1, "write": 1}, shifted)
-    add_scaled(true, ADD_COST, added)
+    searched: Any, examined: Any, deleted: Any, added: Any, shifted: Any, facing_polygons: Any, add=add_scaled
+) -> dict[str, Any]:
+    """``true`` cost of the side loop and S operations from the replay's counts (shared with HSD): integers,
+    or with ``add=add_scaled_many`` one array of counts per light."""
+    true: dict[str, Any] = {}
+    add(true, FACING_FACE_COST, facing_polygons)
+    add(true, SIDE_COST, searched)
+    add(true, {"read": 1, "cmp": 1}, examined)
+    add(true, DELETE_COST, deleted)
+    add(true, {"read": 1, "write": 1}, shifted)
+    add(true, ADD_COST, added)
     return true
 
 
@@ -218,15 +225,75 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     return finish(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
-def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> SilhouetteBatch:
     """:func:`detect` (``fast``) for each light, the lights' replays of S on threads side by side
-    (:func:`.edge_array.replay_many`): the same answers and tallies."""
+    (:func:`.edge_array.replay_many`), as one :class:`.batch.SilhouetteBatch`: the same answers and tallies."""
     p0, nrm = edge_faces(mesh)[:2]
     many = replay_many(mesh.face_start, side_keys(mesh), p0, nrm, lights, 2 * mesh.n_edges, _initial(mesh, variant))
-    return [
-        finish(mesh, light, NAME, variant, "fast", _run(mesh, light, variant, *got), PAPER_MODEL)
-        for light, got in zip(lights, many, strict=True)
-    ]
+    E, F = mesh.n_edges, mesh.n_faces
+    steps, true = many_counts(many, lights, F)
+    if variant == "literal":
+        steps["init_S"] = E
+        add_scaled_many(true, INIT_COST, E)
+    return finish_many(mesh, lights, NAME, variant, many, steps, true, PAPER_MODEL)
+
+
+def many_counts(many: list[tuple[np.ndarray, int, Replay]], lights: list[Light], P: int) -> tuple[dict, dict]:
+    """Steps and ``true`` tallies (name -> (n,) int64) of the lights' replays over ``P`` polygons (faces for
+    TA): visibility of every polygon, then :func:`array_true_tally`; the order of :func:`_run`'s dicts."""
+    got = {
+        f: np.array([getattr(r, f) for _, _, r in many], dtype=np.int64)
+        for f in ("searched", "examined", "deleted", "added", "shifted")
+    }
+    facing = np.array([np.count_nonzero(flags) for flags, _, _ in many], dtype=np.int64)
+    steps = {"visibility": P, "search_S": got["searched"], "delete": got["deleted"], "add": got["added"]}
+    steps["shift"] = got["shifted"]
+    true: dict[str, np.ndarray] = {}
+    add_scaled_many(true, visibility_cost_many(lights), P)
+    extra = array_true_tally(**got, facing_polygons=facing, add=add_scaled_many)
+    for kind, c in extra.items():
+        true[kind] = true.get(kind, 0) + c
+    return steps, true
+
+
+def finish_many(
+    mesh: Mesh,
+    lights: list[Light],
+    detector: str,
+    variant: str,
+    many: list[tuple[np.ndarray, int, Replay]],
+    steps: dict,
+    true: dict,
+    paper_model: str,
+    paper_params: dict | None = None,
+    light_notes: dict | None = None,
+    notes: dict | None = None,
+) -> SilhouetteBatch:
+    """:func:`finish` for every light's replay at once: what S holds (each edge once), ``notes['S_length']``
+    and ``['duplicates_in_S']`` per light, each light's front-most copy's direction when asked for."""
+    held = [keys_to_directed(mesh.edges, r.live_keys) for _, _, r in many]
+    ids = [unique_ids(x) for x, _ in held]
+    length = [int(x.size) for x, _ in held]
+    own = {"S_length": length, "duplicates_in_S": [n - int(u.size) for n, u in zip(length, ids, strict=True)]}
+
+    def orient(i: int, u: np.ndarray) -> np.ndarray:
+        return first_orientation(held[i][0], held[i][1], u)
+
+    return make_batch(
+        mesh,
+        lights,
+        detector,
+        variant,
+        ids,
+        steps,
+        true,
+        [t for _, t, _ in many],
+        paper_model,
+        paper_params,
+        orient,
+        notes,
+        {**(light_notes or {}), **own},
+    )
 
 
 def plain_edge_ids(mesh: Mesh, light: Light) -> np.ndarray:

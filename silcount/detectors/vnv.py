@@ -63,14 +63,19 @@ import numpy as np
 from numba import njit
 
 from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import shared_facing_flags
+from silcount.detectors.adjacency import facing_of_bits, many_edge_ids, shared_facing_flags
 from silcount.detectors.base import (
     EngineRun,
     MeshMemory,
     Silhouette,
+    SilhouetteBatch,
     add_scaled,
+    add_scaled_many,
     counted_visibility,
+    make_batch,
     make_silhouette,
+    oriented_edges,
+    visibility_cost_many,
     visibility_true_cost,
 )
 from silcount.detectors.spec import DetectorSpec
@@ -181,6 +186,97 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     return make_silhouette(mesh, light, NAME, variant, engine, run, PAPER_MODEL)
 
 
+@njit(cache=True, nogil=True)
+def _facing_sides_many(face_start, side_edge, bits, lights, E):  # pragma: no cover - compiled
+    """:func:`_facing_sides` for each light of one 64-light word pass (bit ``lights[j]`` of ``bits[f]``: face
+    ``f`` faces light ``j``), one counter array reused: each light's edges of ``E_counter == 1`` (CSR), its
+    light-facing sides, the sides behind them and its light-facing faces."""
+    n = lights.size
+    counters = np.zeros(E, dtype=np.int64)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    ids = np.empty(max(E, 1), dtype=np.int64)
+    sides = np.zeros(n, dtype=np.int64)
+    behind = np.zeros(n, dtype=np.int64)
+    facing = np.zeros(n, dtype=np.int64)
+    one = np.uint64(1)
+    for j in range(n):
+        bit = np.uint64(lights[j])
+        counters[:] = 0
+        for f in range(bits.size):
+            if (bits[f] >> bit) & one:
+                facing[j] += 1
+                lo, hi = face_start[f], face_start[f + 1]
+                sides[j] += hi - lo
+                for s in range(lo, hi):
+                    counters[side_edge[s]] += 1
+                    behind[j] += hi - s - 1
+        k = offsets[j]
+        for e in range(E):
+            if counters[e] == 1:
+                if k == ids.size:
+                    grown = np.empty(2 * ids.size, dtype=np.int64)
+                    grown[:k] = ids[:k]
+                    ids = grown
+                ids[k] = e
+                k += 1
+        offsets[j + 1] = k
+    return offsets, ids[: offsets[n]], sides, behind, facing
+
+
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> SilhouetteBatch:
+    """:func:`detect` (``fast``) for each light from the reference's 64-light facing words
+    (:func:`.adjacency.many_edge_ids`): ``intended``'s counters for every light of a word pass in one compiled
+    loop (:func:`_facing_sides_many`), ``literal``'s from each light's count of light-facing faces; one
+    :class:`.batch.SilhouetteBatch`, the same answers and tallies."""
+    many = many_edge_ids(mesh, lights)
+    E, F = mesh.n_edges, mesh.n_faces
+    n = len(lights)
+    ids: list[np.ndarray] = []
+    sides = np.zeros(n, dtype=np.int64)
+    behind = np.zeros(n, dtype=np.int64)
+    n_vis = np.zeros(n, dtype=np.int64)
+    lo = 0
+    while lo < n:  # one word pass at a time: the lights sharing one array of facing words
+        hi = lo
+        while hi < n and many[hi][2] is many[lo][2]:
+            hi += 1
+        bits = many[lo][2]
+        which = np.array([many[i][3] for i in range(lo, hi)], dtype=np.int64)
+        off, got, sides[lo:hi], behind[lo:hi], n_vis[lo:hi] = _facing_sides_many(
+            mesh.face_start, mesh.side_edge, bits, which, E
+        )
+        if variant == "intended":
+            ids += [got[off[j] : off[j + 1]] for j in range(hi - lo)]
+        lo = hi
+    if variant == "intended":
+        increments = sides
+    else:  # E_counter is never reset: after edge e it holds (e + 1) * n_vis, 1 only at e = 0 with n_vis = 1
+        ids = [np.zeros(1 if v == 1 and E else 0, dtype=np.int64) for v in n_vis.tolist()]
+        increments = E * n_vis
+    k = np.array([x.size for x in ids], dtype=np.int64)
+    steps: dict = {"visibility": E * F, "counter": increments, "check_counter": E, "add": k}
+    true: dict[str, np.ndarray] = {}
+    add_scaled_many(true, visibility_cost_many(lights), E * F)
+    add_scaled_many(true, COUNTER_COST, increments)
+    add_scaled_many(true, CHECK_COST, E)
+    add_scaled_many(true, ADD_COST, k)
+    light_notes = {}
+    if variant == "intended":
+        steps["contains"] = E * n_vis
+        add_scaled_many(true, CONTAINS_COST, E * n_vis)
+        add_scaled_many(true, SIDE_EXAMINED_COST, E * sides - behind)
+    else:
+        light_notes["reset_reading_edges"] = [E if v == 1 else 0 for v in n_vis.tolist()]
+
+    def orient(i: int, u: np.ndarray) -> np.ndarray:
+        return oriented_edges(mesh, u, facing_of_bits(many[i][2], many[i][3]))
+
+    ties = [got[1] for got in many]
+    return make_batch(
+        mesh, lights, NAME, variant, ids, steps, true, ties, PAPER_MODEL, orient=orient, light_notes=light_notes
+    )
+
+
 @njit(cache=True)
 def _each_edge_against_every_face(edges, vertices, face_start, corners, light, directional):  # pragma: no cover
     """The printed double loop: per edge, per face, visibility and, for a visible face, containment."""
@@ -241,4 +337,5 @@ SPEC = DetectorSpec(
     plain_quadratic=True,
     growth_variant="literal",
     style=("#d1495b", "o"),
+    detect_many=detect_many,
 )

@@ -12,8 +12,9 @@ laws to silcount's measurements.
 >>> result.fits["silhouette_edges"]["alpha"], result.fits["silhouette_edges"]["alpha_ci"]
 
 Modules: :mod:`.work` (one file at one level, on a worker), :mod:`.subdivide`,
-:mod:`.schedule` (Dask), :mod:`.cache`, :mod:`.tables`, :mod:`.fits` (with
-:mod:`.classes`, the complexity class of each fitted series),
+:mod:`.schedule` (Dask), :mod:`.units` (a unit's time and memory), :mod:`.parts` (a unit split
+and joined), :mod:`.cache`, :mod:`.tables`, :mod:`.fits` (with :mod:`.classes`, the complexity class of
+each fitted series),
 :mod:`.figures`, :mod:`.output` (``--out DIR``), :mod:`.literature` and
 :mod:`.literature_page` (the papers' detectors beside ``gaussmap`` and ``cones``).
 """
@@ -31,10 +32,11 @@ from typing import TYPE_CHECKING
 from silcount.detectors import get
 from silcount.detectors import names as registered
 from silcount.errors import BadArgument, UnreadableInput
-from silcount.mesh.io import FORMATS
+from silcount.mesh.io import FORMATS, parse_size
 from silcount.study.cache import Cache, default_cache_dir
 from silcount.study.schedule import Item, check_scheduler, run_items
 from silcount.study.tables import document, fits, meshes_frame, rows_frame
+from silcount.study.units import faces_of
 from silcount.study.work import LIGHT_KINDS, Settings
 
 if TYPE_CHECKING:
@@ -118,6 +120,8 @@ def corpus(
     timing: bool = True,
     time_lights: int = 1,
     quiet: bool = False,
+    memory_budget: int | str | None = None,
+    timeline: list[float] | None = None,
 ) -> CorpusResult:
     """Sweep every mesh file under ``paths`` (see the module docstring and ``silcount corpus --help``).
 
@@ -126,12 +130,19 @@ def corpus(
     ``processes`` or ``tcp://HOST:PORT``; ``workers`` applies to the first two.
     A mesh that cannot be audited is a row of ``meshes`` with its ``error``;
     it never stops the sweep (``CorpusResult.failed`` counts them).
+    ``memory_budget``: a worker's peak memory, bytes or a size such as ``"4GB"`` (default: a share of the
+    machine's memory over the local workers, :func:`silcount.study.units.default_budget`); a unit over it
+    runs in parts, or is refused in its error row (:mod:`silcount.study.parts`).  ``timeline``, if given,
+    gets the ``time.perf_counter()`` of each finished task (a unit, or a part of one).
     """
     settings = _settings(lights, light_kind, seed, detectors, variant, timing, time_lights)
     levels = sorted({int(v) for v in subdivide})
     if not levels or levels[0] < 0:
         raise BadArgument(f"--subdivide {subdivide}: levels are integers >= 0")
     check_scheduler(scheduler)
+    budget = parse_size(memory_budget, "--memory-budget") if isinstance(memory_budget, str) else memory_budget
+    if budget is not None and budget <= 0:
+        raise BadArgument(f"--memory-budget {memory_budget}: need a positive size")
     folder = default_cache_dir() if cache is True else (Path(cache) if cache else None)
     items = []
     for label, path in find_files(paths):
@@ -140,11 +151,12 @@ def corpus(
         except OSError as exc:  # this mesh's error row; the sweep goes on
             data, error = b"", f"{path}: cannot read: {exc.strerror or exc}"
         sha = hashlib.sha256(data).hexdigest()
-        items += [Item(label, data, sha, level, error) for level in levels]
+        faces = None if error else faces_of(path)
+        items += [Item(label, data, sha, level, error, faces) for level in levels]
     # the tables' first use of pandas imports it (0.2-0.3 s): done on a thread while the workers start and run,
     # not after the last unit; the tables below import it again (a dictionary look-up, or a wait for this import)
     threading.Thread(target=importlib.import_module, args=("pandas",), name="import-pandas", daemon=True).start()
-    results = run_items(items, settings, scheduler, workers, Cache(folder), quiet)
+    results = run_items(items, settings, scheduler, workers, Cache(folder), quiet, budget, timeline)
     labels = [it.label for it in items]
     rows = rows_frame(labels, results)
     meshes = meshes_frame(labels, results, rows, settings)

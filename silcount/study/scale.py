@@ -189,7 +189,131 @@ def page(profile: SweepProfile) -> str:
         "distributed as the shared corpus's, and scales the client's work linearly in the number of units.",
         "",
     ]
+    lines += collection_lines(profile, collection_sizes())
     return "\n".join(lines)
 
 
-__all__ = ["SweepProfile", "load_profile", "makespan", "predict", "check", "estimate", "page"]
+# ---- a collection of real sizes -------------------------------------------------------------------------
+COLLECTIONS_ENV = "SILCOUNT_COLLECTIONS_DIR"
+THINGI = "thingi10k-sizes.csv"
+
+
+@dataclass(frozen=True)
+class Planned:
+    """The model of a sweep of units of known faces: its wall time and its schedule's figures."""
+
+    wall_s: float
+    makespan_s: float
+    work_s: float
+    tasks: int
+    tail_s: float  # from the first idle worker (nothing left to start) to the workers' end
+    largest_task_s: float
+
+
+def schedule_tasks(seconds: list[float], workers: int) -> tuple[float, float]:
+    """Greedy list scheduling of tasks in the order given, each to the first free worker: the makespan and
+    the time at which a worker first finds nothing left to start."""
+    free = [0.0] * max(int(workers), 1)
+    for t in seconds:
+        heapq.heappush(free, heapq.heappop(free) + float(t))
+    return max(free), min(free)
+
+
+def plan_collection(profile: SweepProfile, faces, workers: int, settings=None, budget: int | None = None) -> Planned:
+    """The model's sweep of files of ``faces`` faces on ``workers`` workers (one numba thread each): the
+    units split and ordered as :func:`silcount.study.schedule.plan_tasks` does, each task's time the
+    unit model's (:mod:`silcount.study.units`) plus the round trip, then the formula of the module docstring."""
+    from silcount.study.schedule import Item, plan_tasks
+    from silcount.study.work import Settings
+
+    settings = settings or Settings()
+    items = [Item(f"{k}.ply", b"", "", 0, None, int(f)) for k, f in enumerate(faces)]
+    tasks, refused = plan_tasks(items, list(range(len(items))), settings, workers, budget)
+    seconds = [t.seconds + profile.task_overhead_s for t in tasks]
+    span, first_idle = schedule_tasks(seconds, workers)
+    return Planned(
+        wall_s=_wall(profile, len(items), span),
+        makespan_s=span,
+        work_s=float(sum(t.seconds for t in tasks)),
+        tasks=len(tasks),
+        tail_s=span - first_idle,
+        largest_task_s=max(seconds, default=0.0),
+    )
+
+
+def collection_sizes() -> np.ndarray | None:
+    """Thingi10K's face counts (``$SILCOUNT_COLLECTIONS_DIR``, else ``../shared/collections`` beside the
+    checkout, ``thingi10k-sizes.csv``), or None when the file is not there."""
+    import os
+    from pathlib import Path
+
+    env = os.environ.get(COLLECTIONS_ENV)
+    folder = Path(env) if env else Path(__file__).resolve().parents[3] / "shared" / "collections"
+    path = folder / THINGI
+    if not path.is_file():
+        return None
+    return pd.read_csv(path, usecols=["num_faces"])["num_faces"].to_numpy(np.int64)
+
+
+def collection_lines(profile: SweepProfile, sizes: np.ndarray | None) -> list[str]:
+    """scale.md's section on a Thingi10K-shaped sweep (its sizes; a line saying why not without them)."""
+    from silcount.study.units import load_model
+    from silcount.study.work import Settings
+
+    lines = ["## A collection shaped like Thingi10K", ""]
+    if sizes is None:
+        return lines + [f"Skipped: no `{THINGI}` (set ${COLLECTIONS_ENV}).", ""]
+    model = load_model()
+    settings = Settings()
+    big = sizes.max()
+    lines += [
+        f"Thingi10K's {sizes.size:,} meshes (`{THINGI}`): median {int(np.median(sizes)):,} faces, largest "
+        f"{int(big):,}, {int(sizes.sum()) / 1e6:.1f} M faces in all. Each unit's time and peak memory come from "
+        "the power laws fitted to units measured from 1 k to 4 M faces (`unit-profile.json`, "
+        "`silcount/study/units.py`), with `silcount corpus`'s default settings (64 directional lights, every "
+        "detector, the plain loops timed), on one numba thread per worker:",
+        "",
+        "| fit | alpha (95 % interval) | class (Akaike weight; runner-up) | at 1 M faces |",
+        "|---|---|---|---|",
+    ]
+    for what, unit in (("seconds", "s"), ("extra_bytes", "MiB")):
+        f = model.fit_of("all", what)
+        at = f["c"] * 1e6 ** f["alpha"] / (2**20 if unit == "MiB" else 1)
+        ci = f["alpha_ci"] or [float("nan")] * 2
+        name = "time" if what == "seconds" else "peak memory above the warm worker's"
+        k = f.get("classes")  # silcount.study.classes, over the same points
+        cls = f"{k['chosen']} ({k['weight']:.2f}; {k['runner_up']} {k['runner_up_weight']:.2f})" if k else "-"
+        lines.append(f"| {name} | {f['alpha']:.2f} ({ci[0]:.2f}-{ci[1]:.2f}) | {cls} | {at:,.1f} {unit} |")
+    largest = model.peak_bytes(float(big), settings)
+    loads = [u["load_1min"] for u in model.units if "load_1min" in u]
+    a = model.about
+    lines += [
+        "",
+        f"Measured on {a.get('machine', '?')} on {a.get('date', '?')} by `scripts/unit_profile.py`, at a 1-minute "
+        f"load of {min(loads, default=float('nan')):.1f}-{max(loads, default=float('nan')):.1f}: the machine was "
+        "shared, and its times are a busy machine's (several times a quiet one's).",
+        "",
+        f"The largest mesh needs about {largest / 2**30:.1f} GiB in one worker (the fit with its margin) and "
+        f"{model.seconds(float(big), settings):,.0f} s.",
+        "",
+        "| workers | wall time | workers' makespan | tasks (units split) | tail (first idle worker to end) |",
+        "|---|---|---|---|---|",
+    ]
+    for w in WORKERS:
+        p = plan_collection(profile, sizes, w, settings, None)
+        lines.append(f"| {w} | {_hms(p.wall_s)} | {_hms(p.makespan_s)} | {p.tasks:,} | {p.tail_s:.1f} s |")
+    lines += [
+        "",
+        "Units are ordered largest first by their estimated time, and a unit estimated at more than 1/(2W) "
+        "of the sweep's work on W workers runs as up to W batches of its lights "
+        "(`silcount/study/schedule.py`); no memory budget splits a unit here (the page does not depend on the "
+        "machine's memory): give each worker at least the largest mesh's need above. "
+        "The client's terms are the shared corpus's (above), per unit. "
+        "`python -m benchmarks.thingi` checks this model on a real sweep of meshes of Thingi10K's sizes.",
+        "",
+    ]
+    return lines
+
+
+__all__ = ["SweepProfile", "load_profile", "makespan", "predict", "check", "estimate", "page", "plan_collection",
+           "schedule_tasks", "collection_sizes", "Planned"]  # fmt: skip

@@ -16,10 +16,12 @@ worker count.
 
 Scheduling (docs/corpus.md, "Scheduling"):
 
-* **largest first.**  Units start in decreasing order of :func:`unit_cost`
-  (the file's bytes times ``4 ** level``, as each subdivision level
-  quadruples the faces), so that the biggest mesh does not start last and
-  leave the other workers idle at the end.  Locally the order is carried by
+* **largest first.**  Units start in decreasing order of :func:`unit_cost`,
+  their estimated seconds (:mod:`silcount.study.units`, from the faces the
+  file declares times ``4 ** level``, as each subdivision level quadruples
+  them; the file's bytes, which say little across formats, only for a file
+  whose faces cannot be read cheaply), so that the biggest mesh does not
+  start last and leave the other workers idle at the end.  Locally the order is carried by
   the task names (Dask's local schedulers run independent tasks in
   descending name order; ``tests/test_corpus.py`` checks the start order);
   on a cluster by ``priority``.  Dask's ``processes`` scheduler hands its
@@ -29,6 +31,13 @@ Scheduling (docs/corpus.md, "Scheduling"):
   batch; units are therefore handed out one at a time (``chunksize=1``), on
   silcount's own pool, shut down without waiting so that the workers' exit
   overlaps the client's tables.
+* **memory and balance** (:mod:`silcount.study.parts`).  A unit whose estimated
+  peak is over the worker's memory budget runs in parts (groups of its
+  detectors, then batches of its lights) that fit, or is refused in one line;
+  a unit that would take more than ``1 / (2 W)`` of the estimated sweep on
+  ``W`` workers runs as up to ``W`` batches of its lights, so that it does not
+  run alone at the end.  The parts' results are joined into the unit's
+  before they are cached.
 * **one level of parallelism.**  Each unit runs numba's parallel kernels on
   ``cores // workers`` threads locally (all cores for one worker, one thread
   each for two workers on two cores) and on one thread on a cluster, whose
@@ -46,10 +55,12 @@ result is cached by the client, so a rerun resumes from the finished units).
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import CancelledError
 from contextlib import contextmanager
@@ -57,8 +68,10 @@ from dataclasses import dataclass
 
 from silcount.errors import BadArgument
 from silcount.progress import progress
+from silcount.study import parts as split
 from silcount.study.cache import Cache, cache_key
-from silcount.study.work import Settings, audit_task, row_columns
+from silcount.study.units import default_budget, load_model
+from silcount.study.work import Part, Settings, audit_task, row_columns
 
 LOCAL = ("threads", "processes")
 CONNECT_TIMEOUT = "20s"
@@ -74,6 +87,16 @@ class Item:
     sha256: str
     level: int
     read_error: str | None = None  # the client could not read the file: an error row, nothing to run
+    faces: int | None = None  # the faces the file declares (None: unknown), before subdivision
+
+
+@dataclass(frozen=True)
+class Task:
+    """What a worker runs: item ``index`` whole (``part`` None) or one of its parts, and its estimated seconds."""
+
+    index: int
+    part: Part | None
+    seconds: float
 
 
 def check_scheduler(scheduler: str) -> None:
@@ -88,10 +111,20 @@ def run_items(
     workers: int | None = None,
     cache: Cache | None = None,
     quiet: bool = False,
+    memory_budget: int | None = None,
+    timeline: list[float] | None = None,
 ) -> list[dict]:
-    """Every item's result (cached ones read back), in the order of ``items``."""
+    """Every item's result (cached ones read back), in the order of ``items``.
+
+    ``memory_budget``: a worker's peak bytes (default :func:`~silcount.study.units.default_budget` of the
+    local workers; none on a cluster); ``timeline``, if given, gets the ``time.perf_counter()`` of each
+    finished task (a unit or a part).
+    """
     check_scheduler(scheduler)
     cache = cache or Cache(None)
+    local = workers or os.cpu_count() or 1
+    if memory_budget is None and scheduler in LOCAL:
+        memory_budget = default_budget(local)
     keys = [cache_key(it.sha256, it.level, settings) for it in items]
     results: list[dict | None] = [
         _failed(it, it.read_error) if it.read_error else cache.get(k, settings) for it, k in zip(items, keys)
@@ -109,20 +142,100 @@ def run_items(
             bar.set_postfix_str(f"failures {failures}", refresh=False)
             bar.update()
 
-        todo.sort(key=lambda i: (-unit_cost(items[i]), i))  # largest first
-        if todo and scheduler in LOCAL:
-            _local(items, todo, settings, scheduler, workers or os.cpu_count() or 1, finish)
-        elif todo:
-            _distributed(items, todo, settings, scheduler, finish)
+        tasks, refused = plan_tasks(items, todo, settings, local if scheduler in LOCAL else 1, memory_budget)
+        for i, line in refused.items():
+            finish(i, _failed(items[i], line))
+        joiner = _Joiner(tasks, settings, finish, timeline)
+        if tasks and scheduler in LOCAL:
+            _local(items, tasks, settings, scheduler, local, joiner.done)
+        elif tasks:
+            _distributed(items, tasks, settings, scheduler, joiner.done)
     return [r for r in results if r is not None]
 
 
-def unit_cost(item: Item) -> int:
-    """The scheduling estimate of a unit's work: its file's bytes times ``4 ** level``."""
-    return len(item.data) * 4**item.level
+def plan_tasks(
+    items: list[Item], todo: list[int], settings: Settings, workers: int, budget: int | None
+) -> tuple[list[Task], dict[int, str]]:
+    """The tasks of the units ``todo``, largest first, and the units refused (index -> their one line).
+
+    See "memory and balance" in the module docstring.  A unit whose faces are unknown runs whole.
+    """
+    model = load_model()
+    seconds = {i: unit_cost(items[i], settings) for i in todo}
+    total = sum(seconds.values())
+    tasks: list[Task] = []
+    refused: dict[int, str] = {}
+    for i in todo:
+        faces = _faces(items[i])
+        if faces is None:
+            tasks.append(Task(i, None, seconds[i]))
+            continue
+        planned: list[Part] | str = [Part(tuple(settings.detectors), 0, split.total_lights(settings))]
+        if budget is not None:
+            planned = split.by_memory(settings, budget, lambda d, n, f=faces: model.peak_bytes(f, settings, d, n))
+        if isinstance(planned, str):
+            refused[i] = planned
+            continue
+        if workers > 1 and total > 0:
+            planned = split.by_time(planned, min(workers, math.ceil(2 * workers * seconds[i] / total)))
+        if len(planned) == 1:
+            tasks.append(Task(i, None, seconds[i]))
+            continue
+        tasks += [Task(i, p, model.seconds(faces, settings, p.detectors, p.hi - p.lo)) for p in planned]
+    tasks.sort(key=lambda t: (-t.seconds, t.index, t.part.lo if t.part else 0))
+    return tasks, refused
 
 
-def audit_on_threads(threads: int, label: str, data: bytes, level: int, settings: Settings) -> dict:
+class _Joiner:
+    """Takes each task's result; when a unit's tasks are all in, its result (parts merged) goes to ``finish``."""
+
+    def __init__(self, tasks: list[Task], settings: Settings, finish: Callable, timeline: list[float] | None):
+        self.settings, self.finish, self.timeline = settings, finish, timeline
+        rank = {d: k for k, d in enumerate(settings.detectors)}
+        self.tasks: dict[int, list[Task]] = {}
+        for t in tasks:
+            self.tasks.setdefault(t.index, []).append(t)
+        for own in self.tasks.values():  # parts in the unit's order: detector groups, then batches of lights
+            own.sort(key=lambda t: (rank[t.part.detectors[0]], t.part.lo) if t.part else (0, 0))
+        self.got: dict[int, dict[Task, dict]] = {}
+
+    def done(self, task: Task, result: dict) -> None:
+        if self.timeline is not None:
+            self.timeline.append(time.perf_counter())
+        own = self.tasks[task.index]
+        got = self.got.setdefault(task.index, {})
+        got[task] = result
+        if len(got) < len(own):
+            return
+        del self.got[task.index]
+        parts = [t.part for t in own if t.part is not None]
+        if not parts:
+            self.finish(task.index, result)
+        else:
+            self.finish(task.index, split.merge([got[t] for t in own], parts, self.settings))
+
+
+def _faces(item: Item) -> int | None:
+    """The unit's faces after subdivision (each level quadruples a triangle mesh's), or None if unknown."""
+    return None if item.faces is None else item.faces * 4**item.level
+
+
+def unit_cost(item: Item, settings: Settings) -> float:
+    """The scheduling estimate of a unit's work: its estimated seconds (:mod:`silcount.study.units`), or,
+    when its faces are unknown, its file's bytes times ``4 ** level`` over :data:`BYTES_PER_SECOND`."""
+    faces = _faces(item)
+    if faces is None:
+        return len(item.data) * 4**item.level / BYTES_PER_SECOND
+    return load_model().seconds(faces, settings)
+
+
+BYTES_PER_SECOND = 1e6
+"""A file's bytes per second of work, for a unit whose faces are unknown (ranks it among the others)."""
+
+
+def audit_on_threads(
+    threads: int, label: str, data: bytes, level: int, settings: Settings, part: Part | None = None
+) -> dict:
     """:func:`~silcount.study.work.audit_task` with numba's parallel kernels on ``threads`` threads.
 
     ``numba.set_num_threads`` is per thread, so a Dask thread pool's threads each keep their own setting;
@@ -133,20 +246,22 @@ def audit_on_threads(threads: int, label: str, data: bytes, level: int, settings
     before = numba.get_num_threads()
     numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))  # type: ignore[attr-defined]
     try:
-        return audit_task(label, data, level, settings)
+        return (
+            audit_task(label, data, level, settings) if part is None else audit_task(label, data, level, settings, part)
+        )
     finally:
         numba.set_num_threads(before)
 
 
 def _local(
-    items: list[Item], todo: list[int], settings: Settings, scheduler: str, workers: int, finish: Callable
+    items: list[Item], tasks: list[Task], settings: Settings, scheduler: str, workers: int, done: Callable
 ) -> None:
     # the processes start before Dask's import (0.3 s of the client's time), so that their own start overlaps it
     pool = None
     try:
         with _ctrl_c_remembered() as heard:
-            pool = process_pool(min(workers, len(todo))) if scheduler == "processes" else None  # threads: Dask's
-            _compute(items, todo, settings, scheduler, workers, finish, pool, heard)
+            pool = process_pool(min(workers, len(tasks))) if scheduler == "processes" else None  # threads: Dask's
+            _compute(items, tasks, settings, scheduler, workers, done, pool, heard)
     except KeyboardInterrupt:
         if pool is not None:
             stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
@@ -158,15 +273,15 @@ def _local(
 
 def _compute(
     items: list[Item],
-    todo: list[int],
+    tasks: list[Task],
     settings: Settings,
     scheduler: str,
     workers: int,
-    finish: Callable,
+    done: Callable,
     pool,
     heard: Callable[[], None],
 ) -> None:
-    """``todo`` on Dask's local ``scheduler`` (on ``pool`` for ``processes``), each result to ``finish``;
+    """``tasks`` on Dask's local ``scheduler`` (on ``pool`` for ``processes``), each result to ``done``;
     ``heard()`` raises a Ctrl-C that Python swallowed (:func:`_ctrl_c_remembered`)."""
     import dask
     from dask import multiprocessing, threaded
@@ -174,27 +289,33 @@ def _compute(
 
     heard()  # a Ctrl-C during the import can land in an import lock's callback, where Python ignores it
 
-    # ``todo`` is largest first; Dask starts independent tasks in descending name order
-    names = {f"silcount-corpus-{len(todo) - rank:06d}": i for rank, i in enumerate(todo)}
+    # ``tasks`` is largest first; Dask starts independent tasks in descending name order
+    names = {f"silcount-corpus-{len(tasks) - rank:06d}": t for rank, t in enumerate(tasks)}
     threads = max(1, (os.cpu_count() or 1) // workers)
 
     class Collect(Callback):
         def _posttask(self, key, result, dsk, state, id):  # noqa: A002 - dask's signature
             heard()
             if key in names:
-                finish(names[key], result)
+                done(names[key], result)
 
-    tasks = [
+    delayed = [
         dask.delayed(audit_on_threads, pure=False)(
-            threads, items[i].label, items[i].data, items[i].level, settings, dask_key_name=name
-        )
-        for name, i in names.items()
+            threads,
+            items[t.index].label,
+            items[t.index].data,
+            items[t.index].level,
+            settings,
+            t.part,
+            dask_key_name=name,
+        )  # fmt: skip
+        for name, t in names.items()
     ]
     with Collect():
         # the scheduler's function itself, not its name: a name makes Dask import distributed (0.3 s) to
         # look for a default client, which a named local scheduler ignores anyway
         get = multiprocessing.get if scheduler == "processes" else threaded.get
-        dask.compute(*tasks, scheduler=get, num_workers=workers, pool=pool, chunksize=1)  # one at a time
+        dask.compute(*delayed, scheduler=get, num_workers=workers, pool=pool, chunksize=1)  # one at a time
 
 
 def process_pool(workers: int):
@@ -304,8 +425,8 @@ def _started() -> None:
     """Nothing: the call that starts a worker process (its unpickling imports this module, silcount and numba)."""
 
 
-def _distributed(items: list[Item], todo: list[int], settings: Settings, address: str, finish: Callable) -> None:
-    """``todo`` on a cluster, largest first; a unit whose input died with a worker is sent again.
+def _distributed(items: list[Item], tasks: list[Task], settings: Settings, address: str, done: Callable) -> None:
+    """``tasks`` on a cluster, largest first; a task whose input died with a worker is sent again.
 
     The client scatters each file's bytes to one worker.  When that worker dies, the bytes go with it and
     the unit is cancelled ("already forgotten"): the client still holds them, so it scatters them again and
@@ -320,31 +441,33 @@ def _distributed(items: list[Item], todo: list[int], settings: Settings, address
         raise BadArgument(f"--scheduler {address}: cannot reach the Dask scheduler: {exc}") from None
     with client:
         futures: dict = {}
-        priority = {i: len(todo) - rank for rank, i in enumerate(todo)}
 
-        def submit(i: int, attempt: int):
-            it = items[i]
+        def submit(rank: int, attempt: int):
+            t = tasks[rank]
+            it = items[t.index]
             data = client.scatter(it.data, hash=False)
-            key = f"silcount-corpus-{it.sha256[:16]}-{it.level}-{i}-{attempt}"
+            key = f"silcount-corpus-{it.sha256[:16]}-{it.level}-{t.index}-{rank}-{attempt}"
             fut = client.submit(
-                audit_on_threads, 1, it.label, data, it.level, settings, key=key, pure=False, priority=priority[i]
-            )
-            futures[fut] = (i, attempt)
+                audit_on_threads, 1, it.label, data, it.level, settings, t.part, key=key, pure=False,
+                priority=len(tasks) - rank,
+            )  # fmt: skip
+            futures[fut] = (rank, attempt)
             return fut
 
-        running = as_completed([submit(i, 0) for i in todo])
+        running = as_completed([submit(rank, 0) for rank in range(len(tasks))])
         for fut in running:
-            i, attempt = futures.pop(fut)
+            rank, attempt = futures.pop(fut)
+            i = tasks[rank].index
             try:  # a unit whose result died with its worker is run again by the scheduler: result() waits
                 result = fut.result()
             except CancelledError as lost:  # its scattered bytes died with a worker
                 if attempt < RESUBMITS:
-                    running.add(submit(i, attempt + 1))
+                    running.add(submit(rank, attempt + 1))
                     continue
                 result = _failed(items[i], f"{type(lost).__name__}: {lost}")
             except Exception as lost:  # the task never raises: the cluster lost it for good (KilledWorker)
                 result = _failed(items[i], f"{type(lost).__name__}: {lost}")
-            finish(i, result)
+            done(tasks[rank], result)
 
 
 def _failed(item: Item, error: str) -> dict:

@@ -5,8 +5,9 @@
 private temporary file, loads it with :func:`silcount.mesh.io.load_mesh`,
 subdivides it (:mod:`silcount.study.subdivide`) and runs every requested
 detector under all the lights at once with :func:`silcount.detectors.detect_many`
-(identical to :func:`~silcount.detectors.detect` light by light; the reference,
-EESD, TA and HSD batch their lights, see its docstring).  It returns
+(identical to :func:`~silcount.detectors.detect` light by light; every built-in
+batches its lights, see its docstring), and builds its rows from each batch's
+arrays (:class:`silcount.detectors.SilhouetteBatch`), with no object per light.  It returns
 plain JSON-ready data and never raises for a bad mesh: the failure becomes the
 result's one-line ``error`` (so one file never stops a sweep).
 
@@ -61,18 +62,17 @@ from __future__ import annotations
 import hashlib
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import cache
 from pathlib import Path
 
 import numpy as np
 
 from silcount.counting.arithmetic import KINDS
-from silcount.counting.cycles import Profile, builtin_profiles, cycles_many
+from silcount.counting.cycles import Profile, builtin_profiles, cycles_of_counts
 from silcount.detectors import (
-    Silhouette,
+    SilhouetteBatch,
     detect_many,
-    differences,
     get,
     is_reference_run,
     names,
@@ -81,6 +81,7 @@ from silcount.detectors import (
     runs,
     specs,
 )
+from silcount.detectors.batch import ABSENT, common_many
 from silcount.errors import SilcountError
 from silcount.mesh.io import load_mesh
 from silcount.mesh.lights import DirectionalLight, Light, PointLight, random_directions, sphere_lights
@@ -115,6 +116,15 @@ class Settings:
     def as_dict(self) -> dict:
         d = asdict(self)
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+
+@dataclass(frozen=True)
+class Part:
+    """A share of a unit (:mod:`silcount.study.parts`): some of its detectors, under its lights ``lo:hi``."""
+
+    detectors: tuple[str, ...]
+    lo: int
+    hi: int
 
 
 def sha256_words(sha256: str) -> list[int]:
@@ -179,44 +189,51 @@ def light_record(light: Light) -> dict:
 
 
 def run_columns(
-    results: list[Silhouette], refs: list[Silhouette], settings: Settings, profiles: dict[str, Profile], edges: int
+    results: SilhouetteBatch, refs: SilhouetteBatch, settings: Settings, profiles: dict[str, Profile], edges: int
 ) -> dict[str, list]:
-    """One detector's result under each light, as columns (name -> one value per light): edges, agreement
-    with the reference ``refs[i]`` (the same light's), edges visited (of ``edges``), steps, tallies and cycles
-    per model (each profile's :func:`~silcount.counting.cycles.cycles_many` over the lights: the doubles
-    ``Profile.cycles`` gives).  A ``steps_`` column holds ``None`` for a light whose run did not count
+    """One detector's batch of lights as columns (name -> one value per light), read from its arrays: edges,
+    agreement with the reference ``refs`` (the same lights'), edges visited (of ``edges``), steps, tallies and
+    cycles per model (each profile's :func:`~silcount.counting.cycles.cycles_of_counts` over the lights: the
+    doubles ``Profile.cycles`` gives).  A ``steps_`` column holds ``None`` for a light whose run did not count
     that step (:func:`row_names`)."""
-    diffs = [differences(res.edge_ids, ref.edge_ids) for res, ref in zip(results, refs, strict=True)]
-    visited = [res.steps.get(get(res.detector).visited_step or "") for res in results]
+    n = len(results)
+    common = common_many(results, refs)
+    found = results.n_edges
+    visited = results.step(get(results.detector).visited_step or "") if n else None
+    seen = [None] * n if visited is None else [None if v == ABSENT else v for v in visited.tolist()]
+    whole = max(edges, 1)
     cols: dict[str, list] = {
-        "silhouette_edges": [res.n_edges for res in results],
-        "missed_edges": [d["missed_edges"] for d in diffs],
-        "extra_edges": [d["extra_edges"] for d in diffs],
-        "edges_visited": [None if v is None else int(v) for v in visited],
-        "edges_visited_fraction": [None if v is None else int(v) / max(edges, 1) for v in visited],
+        "silhouette_edges": found.tolist(),
+        "missed_edges": (refs.n_edges - common).tolist(),
+        "extra_edges": (found - common).tolist(),
+        "edges_visited": seen,
+        "edges_visited_fraction": [None if v is None else v / whole for v in seen],
     }
-    for step in dict.fromkeys(k for res in results for k in res.steps):
-        cols[f"steps_{step}"] = [int(res.steps[step]) if step in res.steps else None for res in results]
-    tallies = [res.tally for res in results]
-    for model in sorted(tallies[0]) if tallies else ():
-        counts = {k: [int(t[model].get(k, 0)) for t in tallies] for k in KINDS}
-        cols.update({f"{model}_{k}": v for k, v in counts.items()})
-        cols[f"{model}_total"] = [int(sum(c)) for c in zip(*counts.values(), strict=True)]
-        weighed = cycles_many([profiles[p] for p in settings.profiles], [t[model] for t in tallies])
+    for j, step in enumerate(results.step_names):
+        cols[f"steps_{step}"] = [None if v == ABSENT else v for v in results.steps[:, j].tolist()]
+    tallies = {"true": (results.kinds, results.true)}
+    if n and results.paper_model is not None:
+        tallies["paper"] = results.paper_counts()
+    for model in sorted(tallies) if n else ():
+        kinds, counts = tallies[model]
+        for j, k in enumerate(KINDS):  # KINDS lead every batch's kinds, never absent
+            cols[f"{model}_{k}"] = counts[:, j].tolist()
+        cols[f"{model}_total"] = counts[:, : len(KINDS)].sum(axis=1).tolist()
+        weighed = cycles_of_counts([profiles[p] for p in settings.profiles], kinds, counts)
         for p, column in zip(settings.profiles, weighed, strict=True):
             cols[f"{model}_cycles_{p}"] = column.tolist()
     return cols
 
 
-def row_names(cols: dict[str, list], results: list[Silhouette]) -> list[tuple[str, ...]]:
+def row_names(cols: dict[str, list], results: SilhouetteBatch) -> list[tuple[str, ...]]:
     """Each light's row keys, sorted: the run's ``cols`` but the ``steps_`` its run did not count."""
-    own: dict[tuple[str, ...], tuple[str, ...]] = {}  # by the steps' names: one entry in practice
+    own: dict[tuple[bool, ...], tuple[str, ...]] = {}  # by the steps counted: one entry in practice
     out = []
-    for res in results:
-        steps = tuple(res.steps)
-        if steps not in own:
-            own[steps] = tuple(sorted(k for k in cols if not k.startswith("steps_") or k[6:] in res.steps))
-        out.append(own[steps])
+    for counted in map(tuple, (results.steps != ABSENT).tolist()):
+        if counted not in own:
+            mine = {s for s, c in zip(results.step_names, counted, strict=True) if c}
+            own[counted] = tuple(sorted(k for k in cols if not k.startswith("steps_") or k[6:] in mine))
+        out.append(own[counted])
     return out
 
 
@@ -233,13 +250,13 @@ def interleave(runs: list[tuple[dict[str, list], list[tuple[str, ...]]]], n_ligh
     return {"columns": columns, "values": values}
 
 
-def build_record(res: Silhouette) -> dict | None:
-    """A run's per-mesh preprocessing: ``{"true": kind -> count, "steps", "tree_bytes", ...}``, or ``None``.
+def build_record(notes: dict) -> dict | None:
+    """A run's per-mesh preprocessing from a light's ``notes``: ``{"true": kind -> count, "steps", "tree_bytes",
+    ...}``, or ``None``.
 
     ``gaussmap``/``cones``: their tree (``notes['build']``, ``build_steps``, ``tree_bytes``, ``leaf_size``,
     ``fanout``); HSD: its coplanar merge (``notes['merge']``'s ``true`` tally and steps).
     """
-    notes = res.notes
     if "build" in notes:
         keep = ("tree_bytes", "leaf_size", "fanout")
         return {"true": dict(notes["build"]), "steps": dict(notes["build_steps"]), **{k: notes[k] for k in keep}}
@@ -299,21 +316,25 @@ def _time_per_light(mesh: Mesh, lights: list[Light], settings: Settings) -> tupl
     return out, errors
 
 
-def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> dict:
+def _audit(
+    mesh: Mesh, level: int, lights: list[Light], settings: Settings, first: int = 0, timed: list[Light] | None = None
+) -> dict:
+    """The unit's record and rows; ``lights`` are the unit's lights ``first:`` (a part's), ``timed`` those whose
+    first ones are timed (default ``lights``)."""
     from silcount.study.subdivide import subdivide
 
     mesh = subdivide(mesh, level)
     record = mesh_record(mesh)
     profiles = builtin_profiles()
     refs = detect_many(mesh, lights, "reference")  # every light in one pass; identical to detect per light
-    silhouettes = np.array([ref.n_edges for ref in refs], dtype=np.float64)
+    silhouettes = refs.n_edges.astype(np.float64)
     record["lights"] = len(lights)
     record["silhouette_edges_mean"] = float(silhouettes.mean())
     record["silhouette_edges_std"] = float(silhouettes.std())
     lit = [light_record(light) for light in lights]
-    per_light: dict[str, list] = {"light": list(range(len(lights)))}
+    per_light: dict[str, list] = {"light": list(range(first, first + len(lights)))}
     per_light.update({k: [r[k] for r in lit] for k in lit[0]} if lit else {})
-    per_light["reference_edges"] = [int(n) for n in silhouettes]
+    per_light["reference_edges"] = refs.n_edges.tolist()
     runs: list[tuple[dict[str, list], list[tuple[str, ...]]]] = []
     builds: dict[str, dict] = {}
     for key, name, variant in settings.runs():  # each detector over every light at once (detect_many)
@@ -324,14 +345,16 @@ def _audit(mesh: Mesh, level: int, lights: list[Light], settings: Settings) -> d
         cols = run_columns(results, refs, settings, profiles, mesh.n_edges)
         cols.update(per_light, detector=[key] * len(lights), variant=[variant] * len(lights))
         runs.append((cols, row_names(cols, results)))
-        if results and (built := build_record(results[0])) is not None:
+        if len(results) and (built := build_record(results.light_notes_of(0))) is not None:
             builds[key] = built  # light-independent: the first light's
     record["build"] = builds
     by_kind: dict[str, dict[str, float | None]] = {}
     record["time_errors"] = []
-    kinds = list(dict.fromkeys(r["light_kind"] for r in lit))
+    timed = lights if timed is None else timed
+    timed_kinds = [light_record(light)["light_kind"] for light in timed]
+    kinds = list(dict.fromkeys(timed_kinds))
     for kind in kinds:
-        same = [light for light, r in zip(lights, lit, strict=True) if r["light_kind"] == kind]
+        same = [light for light, k in zip(timed, timed_kinds, strict=True) if k == kind]
         by_kind[kind], errors = time_per_light(mesh, same, settings)
         record["time_errors"] += [f"{kind} lights: {e}" if len(kinds) > 1 else e for e in errors]
     record["time_by_light_kind"] = by_kind
@@ -352,10 +375,12 @@ def row_columns(rows: list[dict]) -> dict:
     return {"columns": names, "values": [[row.get(k) for row in rows] for k in names]}
 
 
-def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
+def audit_task(label: str, data: bytes, level: int, settings: Settings, part: Part | None = None) -> dict:
     """Audit one file's bytes at one subdivision level; ``{"mesh", "rows", "error"}``, never raising for bad input.
 
-    ``rows`` is columnar (:func:`row_columns`).
+    ``rows`` is columnar (:func:`row_columns`).  A ``part`` runs only its detectors under its lights (the
+    reference always runs; the first lights are timed only in the part that starts at light 0), and
+    :func:`silcount.study.parts.merge` joins the parts into the unit's result.
 
     ``label`` is the file's name in the sweep (its suffix picks the loader; it
     replaces the temporary path in error messages).
@@ -369,7 +394,12 @@ def audit_task(label: str, data: bytes, level: int, settings: Settings) -> dict:
                 source = load_mesh(path)
             except SilcountError as exc:
                 raise type(exc)(str(exc).replace(str(path), label)) from None
-        result = _audit(source, level, mesh_lights(source, settings, sha), settings)
+        lights = mesh_lights(source, settings, sha)
+        if part is None:
+            result = _audit(source, level, lights, settings)
+        else:
+            own = replace(settings, detectors=part.detectors)
+            result = _audit(source, level, lights[part.lo : part.hi], own, part.lo, lights if part.lo == 0 else [])
         result["error"] = None
     except Exception as exc:  # recorded as this mesh's error row, never dropped: the sweep goes on
         text = " ".join(str(exc).split()) or type(exc).__name__

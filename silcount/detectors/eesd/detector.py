@@ -114,11 +114,25 @@ on the 1M-face subdivided bunny (2 cores) against an estimated 40 min for all pa
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
-from silcount.counting.arithmetic import Memory, Num, OpCounter, plain
-from silcount.detectors.adjacency import shared_facing_flags
-from silcount.detectors.base import EngineRun, MeshMemory, add_scaled, make_silhouette, on_threads, unique_ids
+from silcount.counting.arithmetic import KINDS, Memory, Num, OpCounter, plain
+from silcount.detectors.adjacency import facing_of_bits, many_edge_ids, shared_facing_flags
+from silcount.detectors.base import (
+    EngineRun,
+    MeshMemory,
+    SilhouetteBatch,
+    add_scaled,
+    add_scaled_many,
+    make_batch,
+    make_silhouette,
+    on_threads,
+    oriented_edges,
+    unique_ids,
+)
+from silcount.detectors.batch import merge_groups, rows_of
 from silcount.detectors.eesd.counted import (
     ADD_COST,
     CHECK_COST,
@@ -216,8 +230,8 @@ def _naive(mesh: Mesh, light: Light, variant: str):
     return ids, steps, dict(counter), notes
 
 
-def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
-    """The ``fast`` engine's runs for lights of one kind: (ids, steps, true, notes) per light."""
+def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple[np.ndarray, int]]:
+    """The ``fast`` engine's runs for lights of one kind: (ids, rays cast) per light."""
     # 1. Each ray against its own edge's faces (the same test, bit for bit), every light in one pass over the
     #    edges.  A hit there is a hit in the full face loop, so those edges are settled without casting.
     own = own_blocked(mesh, lights)
@@ -235,16 +249,13 @@ def _fast_intended(mesh: Mesh, lights: list[Light]) -> list[tuple]:
         for light, p in zip(lights, points, strict=True):
             o, d, t_min, t_max = rays_through(p, light)
             hits.append(rays.any_hit(o, d, t_min, t_max, what=f"{NAME}: its rays"))
-    out = []
-    for light, cand, hit in zip(lights, cands, hits, strict=True):
-        ids = cand[~hit]
-        out.append((ids, *_intended_tally(mesh, light, int(ids.size)), {"rays_cast": int(cand.size)}))
-    return out
+    return [(cand[~hit], int(cand.size)) for cand, hit in zip(cands, hits, strict=True)]
 
 
-def _intended_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict[str, int], dict[str, int]]:
+def _intended_tally(mesh: Mesh, light: Light, k: Any, add=add_scaled) -> tuple[dict[str, Any], dict[str, Any]]:
     """Steps and ``true`` tally of :func:`_naive`'s ``intended`` loops with ``k`` edges added (every face is
-    tested for every edge: the loops have no data-dependent bound)."""
+    tested for every edge: the loops have no data-dependent bound); with ``add=add_scaled_many``, ``k`` one
+    count per light of ``light``'s kind and the tally one array per kind."""
     E, F = mesh.n_edges, mesh.n_faces
     T = ray_data(mesh)["tri_face"].size
     steps = {
@@ -255,17 +266,17 @@ def _intended_tally(mesh: Mesh, light: Light, k: int) -> tuple[dict[str, int], d
         "triangle_test": E * T,
         "check_hits": E,
     }
-    true: dict[str, int] = {}
-    add_scaled(true, routine_cost("extend", light), E)
-    add_scaled(true, routine_cost("ray", light), E)
-    add_scaled(true, {"read": 2}, E)  # the edge's two vertex indices
-    add_scaled(true, {"read": 1 + 3 + 3 + 3 + 3}, E)  # far corner index; v1, v2, c, light
-    add_scaled(true, {"read": FACE_READS}, E * F)
-    add_scaled(true, routine_cost("triangle_test", light), E * T)
-    add_scaled(true, {"read": TRIANGLE_READS}, E * T)
-    add_scaled(true, HIT_COUNT_COST, E * T)
-    add_scaled(true, CHECK_COST, E)
-    add_scaled(true, ADD_COST, k)
+    true: dict[str, Any] = {}
+    add(true, routine_cost("extend", light), E)
+    add(true, routine_cost("ray", light), E)
+    add(true, {"read": 2}, E)  # the edge's two vertex indices
+    add(true, {"read": 1 + 3 + 3 + 3 + 3}, E)  # far corner index; v1, v2, c, light
+    add(true, {"read": FACE_READS}, E * F)
+    add(true, routine_cost("triangle_test", light), E * T)
+    add(true, {"read": TRIANGLE_READS}, E * T)
+    add(true, HIT_COUNT_COST, E * T)
+    add(true, CHECK_COST, E)
+    add(true, ADD_COST, k)
     return steps, true
 
 
@@ -305,22 +316,50 @@ def detect(mesh: Mesh, light: Light, variant: str = "intended", engine: str = "f
     elif variant == "literal":
         got = _fast_literal(mesh, light)
     else:
-        (got,) = _fast_intended(mesh, [light])
+        ((ids, cast),) = _fast_intended(mesh, [light])
+        got = (ids, *_intended_tally(mesh, light, int(ids.size)), {"rays_cast": cast})
     return _silhouette(mesh, light, variant, engine, *got)
 
 
-def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> list[Silhouette]:
-    """:func:`detect` (``fast``) for each light: ``intended``'s own-face test for every light of a kind in
-    one pass over the edges (:func:`.rays.own_blocked`), the same answers and tallies."""
+def detect_many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> SilhouetteBatch:
+    """:func:`detect` (``fast``) for each light as one :class:`.batch.SilhouetteBatch`: ``intended``'s own-face
+    test for every light of a kind in one pass over the edges (:func:`.rays.own_blocked`) and its tallies as
+    arrays, ``literal``'s plane tests per light; the same answers and tallies."""
+    n = len(lights)
+    many = many_edge_ids(mesh, lights)  # the facing flags and ties (the reference's pass, kept with the mesh)
+    ids: list[np.ndarray] = [np.zeros(0, dtype=np.int64)] * n
+    light_notes: dict[str, list] = {}
     if variant == "literal":
-        return [detect(mesh, light, variant) for light in lights]
-    out: list[Silhouette | None] = [None] * len(lights)
-    for kind in (True, False):
-        which = [i for i, light in enumerate(lights) if light.is_directional == kind]
-        if which:
-            for i, got in zip(which, _fast_intended(mesh, [lights[i] for i in which]), strict=True):
-                out[i] = _silhouette(mesh, lights[i], variant, "fast", *got)
-    return out  # type: ignore[return-value]
+        runs = [_fast_literal(mesh, light) for light in lights]
+        ids = [r[0] for r in runs]
+        steps, true = rows_of([r[1] for r in runs]), rows_of([r[2] for r in runs])
+        adds = [r[1]["add"] for r in runs]
+        light_notes["on_plane_pairs"] = [r[3]["on_plane_pairs"] for r in runs]
+        light_notes["S_length"] = adds
+        light_notes["duplicates_in_S"] = [a - int(unique_ids(x).size) for a, x in zip(adds, ids, strict=True)]
+    else:
+        cast = [0] * n
+        step_parts, true_parts = [], []
+        for kind in (True, False):
+            which = [i for i, light in enumerate(lights) if light.is_directional == kind]
+            if not which:
+                continue
+            for i, (got, c) in zip(which, _fast_intended(mesh, [lights[i] for i in which]), strict=True):
+                ids[i], cast[i] = got, c
+            k = np.array([ids[i].size for i in which], dtype=np.int64)
+            group_steps, group_true = _intended_tally(mesh, lights[which[0]], k, add_scaled_many)
+            step_parts.append((np.array(which), group_steps))
+            true_parts.append((np.array(which), group_true))
+        steps, true = merge_groups(n, step_parts), merge_groups(n, true_parts, KINDS)
+        light_notes["rays_cast"] = cast
+
+    def orient(i: int, u: np.ndarray) -> np.ndarray:
+        return oriented_edges(mesh, u, facing_of_bits(many[i][2], many[i][3]))
+
+    ties = [got[1] for got in many]
+    return make_batch(
+        mesh, lights, NAME, variant, ids, steps, true, ties, PAPER_MODEL, orient=orient, light_notes=light_notes
+    )
 
 
 SPEC = DetectorSpec(

@@ -17,13 +17,15 @@ from numba import njit
 
 from silcount.counting.arithmetic import OpCounter
 from silcount.detectors.adjacency import edge_faces, facing_flags
-from silcount.detectors.base import EngineRun, make_silhouette
+from silcount.detectors.base import EngineRun, SilhouetteBatch, make_batch, make_silhouette, oriented_edges
+from silcount.detectors.batch import rows_of
 from silcount.detectors.hierarchy.build import build_fast
 from silcount.detectors.hierarchy.naive import build_naive, query_naive
 from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
 from silcount.detectors.hierarchy.tree import query_cost as _query_cost
 from silcount.detectors.hierarchy.walk import N_STATS, TIES, query
 from silcount.detectors.reference import fast_tally as reference_tally
+from silcount.detectors.reference import fast_tally_many as reference_tally_many
 from silcount.detectors.result import Silhouette
 from silcount.detectors.spec import DetectorSpec
 from silcount.errors import BadArgument
@@ -156,6 +158,44 @@ def detect(mesh: Mesh, light: Light, name: str, paper_model: str, scheme: KeySch
     return make_silhouette(mesh, light, name, variant, engine, run, paper_model)
 
 
+def detect_many(mesh: Mesh, lights: list[Light], name: str, paper_model: str, scheme: KeyScheme, variant: str,
+                leaf_size: int, fanout: int) -> SilhouetteBatch:  # fmt: skip
+    """:func:`detect` (``fast``) for each light as one :class:`.batch.SilhouetteBatch`: the tree built (or
+    reused) once, the compiled query per light, the steps, tallies and notes as arrays, no Silhouette per
+    light; the build's notes shared by every light."""
+    if leaf_size < 1 or fanout < 2:
+        raise BadArgument(f"{name}: leaf_size must be >= 1 and fanout >= 2, got {leaf_size} and {fanout}")
+    tree = tree_for(mesh, scheme, leaf_size, fanout)
+    got = [query_fast(mesh, tree, light) for light in lights]
+    trues = [
+        _query_cost(steps, isinstance(light, DirectionalLight), math.isfinite(pretest(light, tree.p0_max)[1]))
+        for light, (_, steps, _) in zip(lights, got, strict=True)
+    ]
+    k = np.array([ids.size for ids, _, _ in got], dtype=np.int64)
+    ref_true = sum(reference_tally_many(mesh, lights, k)[1].values(), np.zeros(len(lights), dtype=np.int64))
+    saving = ref_true - np.array([sum(t.values()) for t in trues], dtype=np.int64)
+    build = sum(tree.build_tally.values())
+    E = max(mesh.n_edges, 1)
+    notes = {
+        "build": dict(tree.build_tally),
+        "build_steps": dict(tree.build_steps),
+        "tree_bytes": tree.nbytes,
+        "leaf_size": leaf_size,
+        "fanout": fanout,
+    }
+    light_notes: dict[str, list] = {
+        "edges_visited_fraction": [steps["edge_test"] / E for _, steps, _ in got],
+        "break_even_lights": [math.ceil(build / s) if s > 0 else None for s in saving.tolist()],
+    }
+
+    def orient(i: int, u: np.ndarray) -> np.ndarray:
+        return oriented_edges(mesh, u, facing_flags(mesh, lights[i])[0])
+
+    return make_batch(mesh, lights, name, variant, [ids for ids, _, _ in got], rows_of([s for _, s, _ in got]),
+                      rows_of(trues), [t for _, _, t in got], paper_model, orient=orient, notes=notes,
+                      light_notes=light_notes)  # fmt: skip
+
+
 def reference_true_total(mesh: Mesh, light: Light, k: int) -> int:
     """The reference detector's ``true`` total for one light with ``k`` silhouette edges (its formula)."""
     return sum(reference_tally(mesh, light, k)[1].values())
@@ -174,7 +214,7 @@ def tree_for(mesh: Mesh, scheme: KeyScheme, leaf_size: int = LEAF_SIZE, fanout: 
     return per_mesh[key]
 
 
-__all__ = ["detect", "query_fast", "tree_for", "plain_query"]
+__all__ = ["detect", "detect_many", "query_fast", "tree_for", "plain_query"]
 
 
 def hierarchy_spec(name: str, label: str, paper_model: str, scheme: KeyScheme, style: tuple[str, str]) -> DetectorSpec:
@@ -196,6 +236,9 @@ def hierarchy_spec(name: str, label: str, paper_model: str, scheme: KeyScheme, s
     ) -> Silhouette:
         return detect(mesh, light, name, paper_model, scheme, variant, engine, leaf_size, fanout)
 
+    def many(mesh: Mesh, lights: list[Light], variant: str = "intended") -> SilhouetteBatch:
+        return detect_many(mesh, lights, name, paper_model, scheme, variant, LEAF_SIZE, FANOUT)
+
     def plain_setup(mesh: Mesh) -> None:
         tree_for(mesh, scheme)
 
@@ -215,4 +258,5 @@ def hierarchy_spec(name: str, label: str, paper_model: str, scheme: KeyScheme, s
         plain_setup=plain_setup,
         growth_variant="intended",
         style=style,
+        detect_many=many,
     )

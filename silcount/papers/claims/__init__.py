@@ -26,8 +26,9 @@ if TYPE_CHECKING:
 
 
 def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
-    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), TA's witness family
-    (:func:`silcount.papers.witness.witness_evidence`) and, with ``render``, the render experiments' pixel
+    """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), the worst-case
+    families (:func:`silcount.papers.witness.witness_evidence`: TA's built by hand, the other paper detectors'
+    found by the worst-case search) and, with ``render``, the render experiments' pixel
     mismatches of the literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
     from silcount.papers import growth, witness
     from silcount.papers.claims.context import Deferred, Evidence
