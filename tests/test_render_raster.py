@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -156,3 +157,17 @@ def test_pixel_rays_project_to_the_contract_pixel_centres():
         c = cam.view_projection @ p
         assert np.allclose([c[0] / c[3], c[1] / c[3]], [2 * (col + 0.5) / 40 - 1, 1 - 2 * (row + 0.5) / 30])
         assert np.isclose(c[3], 3.0)  # t is eye depth: w_clip = -z_eye
+
+
+@pytest.mark.parametrize("rows", [3, 8190, 8193, 16386, 3 * 57218])
+def test_to_clip_in_parts_has_the_bits_of_one_product(rows):
+    """The parts of CLIP_ROWS rows give every element the bits of one (rows, 4) x (4, 4) product (the masks
+    of commit 318ab63 depend on them), including a part that would otherwise be one row (8193)."""
+    from silcount.render.raster import CLIP_ROWS
+
+    rng = np.random.default_rng(rows)
+    vp = rng.uniform(-2, 2, (4, 4))
+    p = rng.uniform(-5, 5, (rows // 3, 3, 4))
+    assert CLIP_ROWS == 8192
+    expected = (p.reshape(-1, 4) @ vp.T).reshape(p.shape)
+    assert np.array_equal(to_clip(p, vp), expected)

@@ -3,7 +3,8 @@
 The parts, each a module exposing ``report(out_dir: Path) -> list[Path]``:
 claims, tables, figures (``silcount.cli.claims``/``tables``/``figures``),
 the renders of the shared scenes (``silcount.cli.render``), a worst-case row per detector
-(``silcount.cli.worst_case``, into ``<out>/worst-case/``), and the
+(``silcount.cli.worst_case``, into ``<out>/worst-case/``), the frame budget
+(:func:`frame_budget`, from the committed stage times), and the
 audit of every built-in mesh (:func:`report` here, into ``<out>/audit/``).
 
 Deterministic: the audits written here carry no wall times (``time_s`` is
@@ -32,6 +33,14 @@ from silcount.cli.audit import EXTENSIONS
 from silcount.errors import SilcountError
 from silcount.options import DEFAULT_LIGHT_COUNT, DEFAULT_SEED
 
+
+def frame_budget(out_dir: Path) -> list[Path]:
+    """The frame budget (:mod:`silcount.papers.budget`) under ``out_dir/frame/``, from the committed times."""
+    from silcount.papers.budget import report as budget_report
+
+    return budget_report(out_dir)
+
+
 PARTS = (
     ("claims", claims.report),
     ("tables", tables.report),
@@ -39,6 +48,7 @@ PARTS = (
     ("corpus", corpus.report),
     ("calibrate", calibrate.report),
     ("worst-case", worst_case.report),
+    ("frame", frame_budget),
 )
 # icosphere5 (20,480 faces) is left out: EESD's literal variant costs O(E x F) even in the fast engine
 # (about six minutes for 16 lights on this machine); the size sweeps cover it.

@@ -9,4 +9,5 @@
 | claims.py      | every checkable statement with its verdict                              |
 | tables.py      | the papers' tables: printed, re-derived, measured                       |
 | figures.py     | the papers' charts, printed and corrected; growth plots                 |
+| budget.py      | the report's frame budget, and the papers' FPS changes against it       |
 """

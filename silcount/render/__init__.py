@@ -8,7 +8,8 @@ perspective) -> ``raster.py`` (depth + integer stencil, pixel centres,
 top-left rule) -> ``volumes.py`` (side quads and caps from a detector's
 oriented silhouette) -> ``stencil.py`` (z-pass, z-fail) -> mask.
 ``stencil.py`` also draws per-triangle volumes (``pertriangle``, no silhouette) and logs the frame's
-stages, which ``stages.py`` turns into a table of operations, fragments and seconds.
+stages, which ``stages.py`` turns into a table of operations, fragments and seconds; ``budget.py`` measures
+every stage on both renderers (this one and ``opengl.py``'s llvmpipe) over the occluders of the frame budget.
 ``raycast.py`` is the independent ground truth, ``planar.py`` the projected
 planar shadows of the stencil paper Sec. 4 (onto the floor of
 ``receiver.py``), ``shade.py`` the Phong picture, ``masks.py`` PNG I/O and

@@ -193,12 +193,20 @@ def open_caster_warnings(scene: Scene) -> list[str]:
 
 
 def _caster_volume(
-    scene: Scene, k: int, method: str, caps: bool, how: tuple[str, str], receiver, sd: SceneDepth, log: FrameLog
+    scene: Scene,
+    k: int,
+    method: str,
+    caps: bool,
+    how: tuple[str, str],
+    receiver,
+    sd: SceneDepth,
+    log: FrameLog,
+    vp: np.ndarray,
 ) -> tuple[Volume, np.ndarray]:
-    """Caster ``k``'s volume and the clip-space triangles it draws (``caps``: with the light and dark caps);
-    its detection (``how``: detector, variant) and volume construction logged."""
+    """Caster ``k``'s volume and the clip-space triangles it draws (``caps``: with the light and dark caps), by
+    the frame's view-projection ``vp``; its detection (``how``: detector, variant) and volume construction
+    logged."""
     mesh, ev = scene.objects[k].mesh, log.events["volume"]
-    vp = Camera.of(scene).view_projection
     point = not isinstance(scene.light, DirectionalLight)
     t0 = time.perf_counter()
     if method == "pertriangle":
@@ -274,7 +282,9 @@ def render_stencil(
     volumes, parts = [], []
     for k, obj in enumerate(scene.objects):
         if obj.casts_shadow:
-            vol, clip = _caster_volume(scene, k, method, caps, (detector, variant), receiver, sd, log)
+            vol, clip = _caster_volume(
+                scene, k, method, caps, (detector, variant), receiver, sd, log, camera.view_projection
+            )
             volumes.append(vol)
             parts.append(clip)
     t0 = time.perf_counter()  # every caster's volume in one pass: the stencil is a sum of +-1, in any order

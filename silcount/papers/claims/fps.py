@@ -118,6 +118,46 @@ def fps_consistency(c: dict, source: str, ev: Evidence) -> Claim:
     )
 
 
+def fps_gain(c: dict, source: str, ev: Evidence) -> Claim:
+    """A frame-rate gain credited to a faster detector, by Amdahl's law on the papers' own cycle model.
+
+    The frame shortens from 1/FPS_before to 1/FPS_after; replacing the ``before`` detector by the ``after``
+    one saves at most the predicted detection time difference (cycles / clock).  Under a reading the gain can
+    come from detection when the baseline's predicted detection fits in its frame (a share above 100 % is
+    impossible on any machine) and the saving reaches the frame's printed shortening; the share the gain
+    needs is ``r / (1 - 1/k)``, r the frame's relative shortening, k the detection speed-up."""
+    w, clock = paper_weights(), c["clock_ghz"] * 1e9
+    frame_b, frame_a = 1e3 / c["fps_before"], 1e3 / c["fps_after"]
+    r = 1 - frame_a / frame_b
+    readings = []
+    for (n_name, n_val), (r_name, (rb, ra)) in itertools.product(
+        _n_readings(c["edges"]), readings_of(c["before"], c["after"])
+    ):
+        t_b, t_a = (
+            1e3 * float(cycles_under(mdl, rd, w).subs({F.n: n_val, F.m: c["m"]})) / clock
+            for mdl, rd in ((c["before"], rb), (c["after"], ra))
+        )
+        k = t_b / t_a
+        need = f"needs a share >= {100 * r / (1 - 1 / k):.3g} %" if k > 1 else "no share gives a gain (k <= 1)"
+        readings.append(
+            Reading(
+                f"{n_name}" + (f", {r_name}" if r_name else ""),
+                t_b < frame_b and t_b - t_a >= frame_b - frame_a,
+                f"{algo(c['before'])} {t_b:.3g} ms ({100 * t_b / frame_b:.3g} % of its {frame_b:.3g} ms frame) -> "
+                f"{algo(c['after'])} {t_a:.3g} ms: saves {t_b - t_a:.3g} ms of the {frame_b - frame_a:.3g} ms "
+                f"the frame lost (k = {k:.3g}; the gain {need})",
+            )
+        )
+    return judged_by_readings(
+        c,
+        source,
+        "fps",
+        readings,
+        f"Amdahl: the frame {frame_b:.4g} -> {frame_a:.4g} ms is {100 * r:.3g} % shorter; the papers' own cycle "
+        f"model at {c['clock_ghz']} GHz gives each detector's time per frame. {c['machine_note']}",
+    )
+
+
 def same_number(c: dict, source: str, ev: Evidence) -> Claim:
     """A number reported in two places is the same number."""
     same = len(set(c["values"])) == 1
@@ -136,5 +176,6 @@ RULES = {
     "frame_time": frame_time,
     "fps_order": fps_order,
     "fps_consistency": fps_consistency,
+    "fps_gain": fps_gain,
     "same_number": same_number,
 }
