@@ -141,6 +141,13 @@ def page(frame: pd.DataFrame, fits: dict, settings: Settings, failed: int) -> st
         fits_table(fits),
         "",
         *(["![edges tested against s log2 F](output_sensitivity.png)", ""] if hierarchies else []),
+        "## Worst cases",
+        "",
+        "These are typical meshes.  The worst exponent the worst-case search finds for each detector, beside "
+        "its typical one, and for the hierarchies the worst fraction of E tested under adversarial meshes and "
+        "lights, with the mesh and light that cause it: `silcount report`'s [worst-case rows](../worst-case/rows.md) "
+        "(docs/worst-case.md).",
+        "",
         "## Findings",
         "",
         "silcount's counts on these meshes, each line computed from the tables above.  'X below Y' compares "
