@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -65,7 +66,8 @@ def _sources() -> tuple[tuple[str, Mesh], ...]:
     for label, path in find_files([corpus_folder()]):
         try:
             out.append((label, load_mesh(path)))
-        except SilcountError:
+        except SilcountError as exc:  # a corpus file silcount refuses is no source; say which
+            print(f"collection: {label} left out as a source: {exc}", file=sys.stderr)
             continue
     return tuple(out)
 
