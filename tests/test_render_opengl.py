@@ -123,8 +123,8 @@ def test_per_triangle_volumes_on_opengl_equal_ray_casting(gl_context, name):
 
 
 def test_per_triangle_volumes_under_a_directional_light_equal_ray_casting(gl_context):
-    """A directional light sends every far corner to the one point ``(-d, 0)``: the dark caps and half the
-    side triangles have no area, and the volumes are still closed (the shared scenes' lights are points)."""
+    """A directional light sends every far corner to the one point ``(-d, 0)``: each side is one triangle and
+    there is no dark cap, and the volumes are still closed (the shared scenes' lights are points)."""
     sc = dataclasses.replace(scene("cow_and_cubes"), light=DirectionalLight((1.0, 2.0, 0.5)))
     gl_context.set_scene(scene_clip(sc))
     res = gl_frame(sc, "pertriangle", gl=gl_context)

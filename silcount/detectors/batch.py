@@ -20,7 +20,7 @@ from numba import njit
 
 from silcount.counting import models
 from silcount.counting.arithmetic import KINDS
-from silcount.detectors.result import Silhouette, _units
+from silcount.detectors.result import Silhouette, _common, _units
 from silcount.mesh.lights import Light
 from silcount.mesh.model import Mesh
 
@@ -239,19 +239,7 @@ def _common_many(a_off, a_ids, b_off, b_ids):  # pragma: no cover - compiled
     n = a_off.size - 1
     out = np.zeros(n, dtype=np.int64)
     for r in range(n):
-        i, j = a_off[r], b_off[r]
-        ie, je = a_off[r + 1], b_off[r + 1]
-        c = 0
-        while i < ie and j < je:
-            if a_ids[i] < b_ids[j]:
-                i += 1
-            elif a_ids[i] > b_ids[j]:
-                j += 1
-            else:
-                c += 1
-                i += 1
-                j += 1
-        out[r] = c
+        out[r] = _common(a_ids[a_off[r] : a_off[r + 1]], b_ids[b_off[r] : b_off[r + 1]])
     return out
 
 

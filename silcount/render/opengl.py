@@ -6,7 +6,8 @@ Stages, named as the software renderer names them:
     the detector on the CPU (wall time only); nothing for ``pertriangle``, which finds no silhouette.
 ``volume``
     the volume triangles built on the CPU (:mod:`.volumes` from the silhouette for ``zpass``/``zfail``,
-    :mod:`.triangle_volumes` for ``pertriangle``), taken to clip space and uploaded.
+    :func:`.volumes.pertriangle_volume` for ``pertriangle``: the software frame's geometry), taken to clip
+    space and uploaded.
 ``depth``
     clear, then the scene into the depth buffer (``LESS``, cleared to 1) with the ambient colour
     (alpha 1 marks a covered pixel): the stencil paper Sec. 5 step (1).
@@ -272,8 +273,7 @@ def _volume_clip(scene: Scene, clip: np.ndarray, method: str, silhouettes: list)
     """The volume stage's geometry: (V, 3, 4) clip-space triangles, light caps taken from ``clip``'s rows."""
     from silcount.render.camera import Camera
     from silcount.render.raster import to_clip
-    from silcount.render.triangle_volumes import triangle_volumes
-    from silcount.render.volumes import build_volume
+    from silcount.render.volumes import build_volume, pertriangle_volume
 
     vp = Camera.of(scene).view_projection
     offsets = np.concatenate([[0], np.cumsum([o.mesh.n_faces for o in scene.objects])])
@@ -282,9 +282,10 @@ def _volume_clip(scene: Scene, clip: np.ndarray, method: str, silhouettes: list)
         if not obj.casts_shadow:
             continue
         rows = clip[offsets[k] : offsets[k + 1]]
-        if method == "pertriangle":
-            tv = triangle_volumes(obj.triangles, scene.light)
-            parts += [to_clip(tv.sides, vp), rows[tv.lit], to_clip(tv.dark_caps, vp)]
+        if method == "pertriangle":  # the software frame's volumes (stencil.py), drawn by GL
+            iv = pertriangle_volume(obj.mesh, scene.light)
+            table = to_clip(iv.points, vp)
+            parts += [table[iv.sides], rows[iv.lit_faces], table[iv.dark_cap]]
             continue
         vol = build_volume(obj.mesh, scene.light, silhouette=silhouettes[k])
         parts.append(to_clip(vol.sides, vp))
