@@ -55,7 +55,7 @@ from silcount.mesh.chunks import Meter, run_chunks
 
 LEAF = 16
 PACKET = 64  # planes walked together (consecutive faces: neighbours on most meshes)
-_STRIPES = 256  # interleaved groups of packets handed to the threads
+_STRIPES_PER_THREAD = 8  # interleaved groups of a chunk's packets, per thread
 _DEPTH = 128  # stack entries: two per tree level, far more than a tree of 2^63 leaves needs
 _SLACK = 1e-14
 _PACKET_SLACK = 1e-12  # the packet test's margin (module docstring)
@@ -213,8 +213,8 @@ def _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, ou
                     a, b, c, d = pa[j], pb[j], pc[j], pd[j]
                     zeros = 0
                     tests += hi - lo
-                    for i in range(lo, hi):
-                        zeros += near[i - lo] and a * xs[i] + b * ys[i] + c * zs[i] + d == 0.0
+                    for i in range(lo, hi):  # branch-free, so that it vectorises
+                        zeros += (a * xs[i] + b * ys[i] + c * zs[i] + d == 0.0) & near[i - lo]
                     if zeros and not count_only:
                         for i in range(lo, hi):
                             if near[i - lo] and a * xs[i] + b * ys[i] + c * zs[i] + d == 0.0:
@@ -231,19 +231,25 @@ def _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, ou
 
 
 @nb.njit(cache=True, parallel=True)
-def _count(planes, absp, xs, ys, zs, centre, half, big, empty, size, k0, k1, counts):  # pragma: no cover
-    """Packets ``k0 .. k1 - 1``: their zeros into ``counts``; returns their tests.
+def _count(planes, absp, xs, ys, zs, centre, half, big, empty, size, k0, k1, counts, threads):  # pragma: no cover
+    """Packets ``k0 .. k1 - 1``: their zeros into ``counts``; returns their tests (``threads``: numba's count).
 
-    The packets are dealt to :data:`_STRIPES` interleaved stripes (packet k to
-    stripe k mod _STRIPES) so that both cores get a similar mix of cheap and
-    dear packets; each packet's count is its own, so the result does not
-    depend on the schedule.
+    The chunk's packets are dealt to ``S`` interleaved stripes (packet ``k0 + i``
+    to stripe ``i mod S``), :data:`_STRIPES_PER_THREAD` per thread and at most
+    one per packet, so that every thread gets a similar mix of cheap and dear
+    packets.  ``prange`` hands each thread a contiguous block of the stripes, so
+    ``S`` must follow the chunk: with a fixed 256 stripes, a chunk of 128
+    packets or fewer (:func:`silcount.mesh.chunks.run_chunks` sizes a chunk to
+    0.25 s: about 100 packets on a 250 k-face torus) gave every packet to the
+    first thread and left the second idle.  Each packet's count is its own, so
+    the result does not depend on the schedule.
     """
     F = planes.shape[0]
     dummy = np.empty(0, dtype=np.int64)
     tests = 0
-    for s in nb.prange(_STRIPES):
-        for k in range(k0 + s, k1, _STRIPES):
+    stripes = min(k1 - k0, _STRIPES_PER_THREAD * threads)
+    for s in nb.prange(stripes):
+        for k in range(k0 + s, k1, stripes):
             first = k * PACKET
             n = min(PACKET, F - first)
             counts[k], t = _walk(planes, absp, first, n, xs, ys, zs, centre, half, big, empty, size, dummy, True)
@@ -274,7 +280,10 @@ def _search(planes, xs, ys, zs, lo, hi, size, meter: Meter) -> np.ndarray:
     c, h, b, e = _node_data(lo, hi)
     n_packets = (F + PACKET - 1) // PACKET
     counts = np.zeros(n_packets, dtype=np.int64)
-    run_chunks(n_packets, lambda k0, k1: _count(planes, absp, xs, ys, zs, c, h, b, e, size, k0, k1, counts), meter)
+    threads = nb.get_num_threads()
+    run_chunks(
+        n_packets, lambda k0, k1: _count(planes, absp, xs, ys, zs, c, h, b, e, size, k0, k1, counts, threads), meter
+    )
     start = np.zeros(n_packets + 1, dtype=np.int64)
     np.cumsum(counts, out=start[1:])
     hits = np.empty(start[n_packets], dtype=np.int64)
