@@ -28,8 +28,8 @@ from silcount.errors import BadArgument, TooMuchWork
 
 WORK_ENV = "SILCOUNT_MAX_WORK"
 # tests of one computation (one light's rays, one light's plane walk).  EESD literal on a 1 M-face torus makes
-# 2.8e10 plane tests in about 25 s on 2 cores (so the limit is some 90 s of them; a 4 M-face torus's
-# 2.2e11 are refused), the rays of every light on it 1.7e7
+# 2.8e10 plane tests in about 25 s on 2 cores (so the limit is some 90 s of them; a 4 M-face torus's,
+# about 2.2e11 by F^1.5, are refused), the rays of every light on it 1.7e7
 DEFAULT_MAX_WORK = 100_000_000_000
 TARGET_S = 0.25  # a chunk's wall time aimed at
 FIRST = 16  # items in the first chunk (doubled up to the target: a few chunks more, none too long)
