@@ -115,3 +115,13 @@ def test_a_detector_with_no_measured_units_costs_the_dearest_measured_one_alone(
     s = Settings(detectors=("reference", "mine"), timing=False)
     assert m.seconds(1e6, s) == pytest.approx(0.3 + 0.1)
     assert m.peak_bytes(1e6, s) == pytest.approx(100 * MIB + MARGIN * 700e6, rel=1e-9)
+
+
+@pytest.mark.parametrize("load", [0.7, 1.0, 1.5, 1.6, 6.0, 10.8])
+def test_the_scale_page_reads_the_profiles_load_as_quiet_or_busy(load):
+    """The profile runs one unit at a time on one thread: its own process puts about 1 on the load, so a
+    highest 1-minute load of 1.5 or less is a quiet machine's; above it the page warns of a busy one."""
+    from silcount.study.scale import _load_reading
+
+    text = _load_reading(load)
+    assert ("busy machine's" in text) == (load > 1.5) and ("quiet machine's" in text) == (load <= 1.5)

@@ -255,6 +255,17 @@ def collection_sizes() -> np.ndarray | None:
     return pd.read_csv(path, usecols=["num_faces"])["num_faces"].to_numpy(np.int64)
 
 
+QUIET_LOAD = 1.5
+"""The profile's units run one at a time on one thread, so its own process puts about 1 on the load."""
+
+
+def _load_reading(load: float) -> str:
+    """How to read the profile's times at the highest 1-minute load seen while it was measured."""
+    if load <= QUIET_LOAD:
+        return "the measuring process's own, a quiet machine's times."
+    return "the machine was shared, and its times are a busy machine's (several times a quiet one's)."
+
+
 def collection_lines(profile: SweepProfile, sizes: np.ndarray | None) -> list[str]:
     """scale.md's section on a Thingi10K-shaped sweep (its sizes; a line saying why not without them)."""
     from silcount.study.units import load_model
@@ -290,8 +301,8 @@ def collection_lines(profile: SweepProfile, sizes: np.ndarray | None) -> list[st
     lines += [
         "",
         f"Measured on {a.get('machine', '?')} on {a.get('date', '?')} by `scripts/unit_profile.py`, at a 1-minute "
-        f"load of {min(loads, default=float('nan')):.1f}-{max(loads, default=float('nan')):.1f}: the machine was "
-        "shared, and its times are a busy machine's (several times a quiet one's).",
+        f"load of {min(loads, default=float('nan')):.1f}-{max(loads, default=float('nan')):.1f}: "
+        + _load_reading(max(loads, default=float("nan"))),
         "",
         f"The largest mesh needs about {largest / 2**30:.1f} GiB in one worker (the fit with its margin) and "
         f"{model.seconds(float(big), settings):,.0f} s.",
