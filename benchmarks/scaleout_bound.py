@@ -6,8 +6,10 @@ The sweep of ``benchmarks.corpus`` (its ``one``: the shared corpus, level 0 or `
 64 directional lights, every detector, ``intended``, ``fast``, no plain-loop timing, no cache) runs at ``1x1``
 (one worker on one numba thread) and at ``2`` (two workers, one thread each: the sweep's rule on two cores),
 ``--repeat`` times interleaved, each run in a fresh process.  Every worker records each unit's start and end:
-under the ``spawn`` context this module is the workers' main module, so its top level, which wraps
-``silcount.study.schedule.audit_task`` when ``SILCOUNT_BOUND_LOG`` names a folder, runs in each of them.
+the sweep's spawned workers do not re-run the caller's main module (:mod:`silcount.study.spawn`), so each
+measured sweep gets a ``sitecustomize`` on its ``PYTHONPATH`` that imports this module at every interpreter's
+start, and this module's top level wraps ``silcount.study.schedule.audit_task`` when ``SILCOUNT_BOUND_LOG``
+names a folder.
 
 From each run:
 
@@ -39,7 +41,7 @@ from benchmarks.common import child_command, tree_env
 from benchmarks.corpus import corpus_dir, one
 
 LOG = os.environ.get("SILCOUNT_BOUND_LOG")
-if LOG:  # in the measured sweep's client and, re-imported as the main module, in each of its workers
+if LOG:  # in the measured sweep's client and, through the sitecustomize of :func:`run`, in each of its workers
     import silcount.study.schedule as _schedule
 
     _audit = _schedule.audit_task
@@ -59,8 +61,10 @@ CONFIGS = ("1x1", "2")
 def run(folder: Path, config: str, levels: str) -> dict:
     """``config`` in a fresh process: wall, lead, tail, busy, and each worker's unit count."""
     workers, _, threads = config.partition("x")
-    with tempfile.TemporaryDirectory() as log:
+    with tempfile.TemporaryDirectory() as log, tempfile.TemporaryDirectory() as hook:
+        Path(hook, "sitecustomize.py").write_text(f"import {__spec__.name}  # wraps audit_task in every worker\n")
         env = tree_env(None, SILCOUNT_BOUND_LOG=log)
+        env["PYTHONPATH"] = os.pathsep.join([hook, env["PYTHONPATH"]])
         if threads:
             env["NUMBA_NUM_THREADS"] = threads
         cmd = child_command(__spec__.name, str(folder), "--one", workers, "--subdivide", levels)
