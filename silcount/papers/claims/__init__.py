@@ -27,8 +27,8 @@ if TYPE_CHECKING:
 
 def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
     """The icosphere sweep's exponents (:func:`silcount.papers.growth.icosphere_evidence`), the worst-case
-    families (:func:`silcount.papers.witness.witness_evidence`: TA's built by hand, the other paper detectors'
-    found by the worst-case search) and, with ``render``, the render experiments' pixel
+    families of each detector an O() claim names (:func:`silcount.papers.witness.worst_cases`: TA's built by
+    hand, any other detector's found by the worst-case search) and, with ``render``, the render experiments' pixel
     mismatches of the literal stencil steps (:func:`silcount.render.experiments.stencil_step_evidence`)."""
     from silcount.papers import growth, witness
     from silcount.papers.claims.context import Deferred, Evidence
@@ -42,7 +42,7 @@ def default_evidence(real: bool = False, render: bool = True) -> "Evidence":
         exponents=Deferred(growth.icosphere_evidence),
         stencil=stencil,
         real=real,
-        worst=Deferred(witness.witness_evidence),
+        worst=witness.worst_cases,
     )
 
 

@@ -42,11 +42,19 @@ class Evidence:
     sweep of :mod:`silcount.papers.growth` by default; the corpus sweep plugs in here); ``stencil``: the
     render experiments' mismatch of each literal stencil step against ray casting, or None when not
     measured; ``real``: whether the shared real meshes (``$SILCOUNT_MESH_DIR``) are measured too;
-    ``worst``: growth exponents on witness families, inputs built to be expensive
-    (:mod:`silcount.papers.witness`): lower bounds on the worst case, which judges an O() claim.
+    ``worst``: growth exponents on witness families, inputs built or found to be expensive
+    (:mod:`silcount.papers.witness`): lower bounds on the worst case, which judges an O() claim.  Either
+    the exponents themselves, or a function from a detector's name to its exponents, asked only for the
+    detectors whose O() claims are judged (:meth:`worst_for`): a user's paper about any registered detector
+    gets its worst case searched for, and no other detector's is.
     """
 
     exponents: Sequence[Exponent]
     stencil: dict[str, dict] | None = None
     real: bool = False
-    worst: Sequence[Exponent] = ()
+    worst: Sequence[Exponent] | Callable[[str], Sequence[Exponent]] = ()
+
+    def worst_for(self, detector: str) -> list[Exponent]:
+        """The witness families' exponents of ``detector``'s total true operations."""
+        got = self.worst(detector) if callable(self.worst) else self.worst
+        return [e for e in got if e.detector == detector and e.cost_model == "true"]

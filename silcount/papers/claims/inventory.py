@@ -187,7 +187,7 @@ def complexity(c: dict, source: str, ev: Evidence) -> Claim:
     typical = [e for e in ev.exponents if e.detector == det and e.cost_model == "true"]
     if not typical:
         raise ValueError(f"no measured exponent for detector {det!r}: the complexity claim needs one")
-    witnesses = [e for e in ev.worst if e.detector == det and e.cost_model == "true"]
+    witnesses = ev.worst_for(det)
     tol = 0.05
     steepest = max(typical + witnesses, key=lambda e: e.exponent)
     above = [e for e in typical + witnesses if e.low > deg + tol]
