@@ -265,6 +265,8 @@ def _local(
     except KeyboardInterrupt:
         if pool is not None:
             stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
+            pool.shutdown(wait=False, cancel_futures=True)
+            _settle(pool)
         raise
     finally:
         if pool is not None:
@@ -419,6 +421,20 @@ def stop_workers(pool) -> None:
         return
     for process in list((getattr(pool, "_processes", None) or {}).values()):
         process.terminate()
+
+
+def _settle(pool, timeout: float = 5.0) -> None:
+    """Wait for the management thread of ``pool``, whose workers were stopped, to close its wake-up pipe.
+
+    Before Python 3.12 the interpreter's exit hook (``concurrent.futures.process._python_exit``) writes to
+    that pipe without the lock the thread closes it under; when the two meet, the exit prints an ignored
+    ``OSError: [Errno 9] Bad file descriptor`` traceback after "silcount: interrupted".  Joined first, the
+    thread has closed the pipe and the hook skips it.  ``_executor_manager_thread`` is private: a pool
+    without it is left as it is.
+    """
+    thread = getattr(pool, "_executor_manager_thread", None)
+    if thread is not None:
+        thread.join(timeout)
 
 
 def _started() -> None:
