@@ -265,7 +265,6 @@ def _local(
     except KeyboardInterrupt:
         if pool is not None:
             stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
-            pool.shutdown(wait=False, cancel_futures=True)
             _settle(pool)
         raise
     finally:
@@ -424,7 +423,8 @@ def stop_workers(pool) -> None:
 
 
 def _settle(pool, timeout: float = 5.0) -> None:
-    """Wait for the management thread of ``pool``, whose workers were stopped, to close its wake-up pipe.
+    """Wait for the management thread of ``pool``, whose workers were stopped, to see them gone and close
+    its wake-up pipe.
 
     Before Python 3.12 the interpreter's exit hook (``concurrent.futures.process._python_exit``) writes to
     that pipe without the lock the thread closes it under; when the two meet, the exit prints an ignored
