@@ -24,7 +24,7 @@ from silcount.cli.main import COMMANDS
 PKG = Path(__file__).resolve().parent.parent / "silcount"
 
 LAYERS: list[tuple[str, ...]] = [
-    ("silcount.errors", "silcount.version", "silcount.options", "silcount.interrupt"),
+    ("silcount.errors", "silcount.version", "silcount.options"),
     ("silcount.atomic", "silcount.progress", "silcount.threads"),  # atomic raises silcount.errors' UnwritableOutput
     ("silcount.plots", "silcount.counting", "silcount.mesh"),  # independent of each other
     ("silcount.detectors",),

@@ -93,13 +93,8 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 0
-    from silcount import interrupt
-
     try:
-        with interrupt.noted():
-            code = int(args._run(args) or 0)
-            interrupt.check()  # a Ctrl-C that a finaliser swallowed after the last chunk
-        return code
+        return int(args._run(args) or 0)
     except SilcountError as exc:
         print(f"silcount {args.command}: error: {exc}", file=sys.stderr)
         return exc.exit_code

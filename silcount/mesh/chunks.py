@@ -6,8 +6,7 @@ run grows with a hostile input (stacked triangles, a ray through a pile of
 them, a plane through a flat mesh) is called on consecutive ranges of its
 items by :func:`run_chunks`, each range sized to take about
 :data:`TARGET_S` seconds (doubled while chunks run fast, cut in proportion when one
-runs slow): a KeyboardInterrupt lands between two chunks, within a second or two, and one that a
-finaliser swallowed is raised again there (:mod:`silcount.interrupt`).
+runs slow): a KeyboardInterrupt lands between two chunks, within a second or two.
 
 Each chunk reports its elementary tests (ray-triangle tests, plane-point
 tests); a :class:`Meter` sums them over one computation and raises
@@ -26,7 +25,6 @@ import time
 from collections.abc import Callable, Iterator
 
 from silcount.errors import BadArgument, TooMuchWork
-from silcount.interrupt import check as check_interrupt
 
 WORK_ENV = "SILCOUNT_MAX_WORK"
 # tests of one computation (one light's rays, one light's plane walk).  EESD literal on a 1 M-face torus makes
@@ -87,7 +85,6 @@ def run_chunks(n: int, run: Callable[[int, int], int], meter: Meter | None = Non
     ``run`` returns its elementary tests, added to ``meter``.  Between two calls Python handles signals."""
     lo, size = 0, first
     while lo < n:
-        check_interrupt()
         hi = min(n, lo + size)
         t0 = time.perf_counter()
         tests = run(lo, hi)
