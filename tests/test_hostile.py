@@ -145,6 +145,12 @@ DRIVER = (
 )
 
 
+def sigint_as_in_a_terminal() -> None:
+    """The child's SIGINT at its default, so that Python installs its handler: a test run started in the
+    background (``cmd &``) has SIGINT ignored, which a child inherits, and then no Ctrl-C reaches it."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_ends_an_audit_of_a_pile_within_seconds(tmp_path):
     # 8,000 turned copies of one triangle: EESD casts 384,000 rays, each through much of the pile, for
     # many seconds.  SIGINT two seconds after the command began (its imports done): the process ends
@@ -152,7 +158,9 @@ def test_ctrl_c_ends_an_audit_of_a_pile_within_seconds(tmp_path):
     path = fan_obj(tmp_path / "fan.obj", 8000)
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
     cmd = [sys.executable, "-c", DRIVER, "audit", str(path), "--detectors", "eesd", "--quiet", "--format", "json"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, text=True)
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, text=True, preexec_fn=sigint_as_in_a_terminal
+    )
     try:
         assert proc.stderr is not None and proc.stderr.readline() == "ready\n"
         time.sleep(2.0)
