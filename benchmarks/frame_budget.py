@@ -9,7 +9,7 @@ built-in detector (fast engine, intended variant) and the per-triangle baseline
 ``silcount/models/measured/frame-budget.csv`` (and the circumstances to ``frame-budget.json``), which
 ``silcount report`` renders as "The frame budget".
 
-    python -m benchmarks.frame_budget [--write] [--repeat 3] [--scenes a,b] [--corpus a,b]
+    python -m benchmarks.frame_budget [--write] [--repeat 5] [--scenes a,b] [--corpus a,b]
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ def main() -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--write", action="store_true", help="commit the rows under silcount/models/measured/")
-    ap.add_argument("--repeat", type=int, default=3, help="frames per case after a warm-up; the median kept")
+    ap.add_argument("--repeat", type=int, default=5, help="frames per case after a warm-up; the median kept")
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--corpus", default=",".join(CORPUS))
     ap.add_argument("--detectors", default=",".join(names()))
@@ -80,7 +80,7 @@ def main() -> int:
     if args.write:
         from silcount.counting.models import models_dir
 
-        command = "python -m benchmarks.frame_budget --write" + (f" --repeat {args.repeat}" if args.repeat != 3 else "")
+        command = "python -m benchmarks.frame_budget --write" + (f" --repeat {args.repeat}" if args.repeat != 5 else "")
         for path in budget.write(table, budget.machine(load, args.repeat, command), models_dir() / "measured"):
             print(path)
     return 0

@@ -142,3 +142,37 @@ def test_hsd_fps_gain_claim_is_judged_by_amdahl_under_each_reading():
         and "390 % of its 14.3 ms frame" in by_n["n = F = 2E/3 = 1471.3"].outcome
     )
     assert "7.41 % shorter" in claim.reason
+
+
+def test_leads_counts_each_frames_largest_stage():
+    """Three frames by hand: b leads the first and third, a the second, c none."""
+    got = budget.leads(["a", "b", "c"], [[1.0, 3.0, 2.0], [4.0, 1.0, 0.0], [0.0, 5.0, 1.0]])
+    assert got == {"a": 1, "b": 2, "c": 0}
+
+
+def _frame(sw: dict[str, tuple[float, int]], gl: dict[str, tuple[float, int]]) -> pd.DataFrame:
+    """A shares table of one frame: stage -> (time share, frames led) per renderer."""
+    return pd.DataFrame(
+        [
+            {"scene": "s", "faces": 1, "size": 8, "method": "zfail", "detector": "reference", "stage": st,
+             "ops_share": 0.5, "software": sw[st][0], "llvmpipe": gl[st][0],
+             "software_leads": sw[st][1], "llvmpipe_leads": gl[st][1]}  # fmt: skip
+            for st in sw
+        ]
+    )
+
+
+@pytest.mark.parametrize(
+    ("gl_depth", "gl_stencil", "verdict"),
+    [((0.6, 3), (0.4, 0), "yes"), ((0.4, 0), (0.6, 3), "NO"), ((0.45, 1), (0.55, 2), "unsettled")],
+)
+def test_dominance_says_yes_no_or_unsettled(gl_depth, gl_stencil, verdict):
+    """The software's depth pass led all 3 of its frames; llvmpipe's leader: the same, another in all 3 frames
+    (a disagreement), another in 2 of 3 (its lead within its own spread)."""
+    none = (0.0, 0)
+    sh = _frame(
+        {"detection": none, "depth": (0.6, 3), "stencil": (0.4, 0)},
+        {"detection": none, "depth": gl_depth, "stencil": gl_stencil},
+    )
+    row = report_budget.dominance(sh).iloc[0]
+    assert row["agree"] == verdict and row["sw led"] == "3/3"

@@ -277,3 +277,28 @@ def test_software_counts_equal_the_gl_hand_count():
     assert table.loc["stencil", "stencil_updates"] == 13
     assert table.loc["lit", "fragments"] - int(res.mask.sum()) == 59
     assert frame_stages(hand_scene(), "zfail").set_index("stage").loc["stencil", "stencil_updates"] == 9
+
+
+def test_a_reused_framebuffer_draws_what_new_buffers_draw(cube):
+    """A frame drawn into a framebuffer that holds another scene's frame clears it first: its mask, stencil,
+    depth, ids and counts equal those of the frame drawn into new buffers, bit for bit."""
+    from silcount.render.stencil import Framebuffer
+
+    fb = Framebuffer.of(cube.width, cube.height)
+    render_stencil(triangle_scene().with_resolution(cube.width, cube.height), "pertriangle", framebuffer=fb)
+    for method in ("zpass", "zfail", "pertriangle"):
+        fresh = render_stencil(cube, method)
+        reused = render_stencil(cube, method, framebuffer=fb)
+        assert reused.stencil is fb.stencil and reused.scene.depth is fb.depth
+        for a, b in ((fresh.mask, reused.mask), (fresh.stencil, reused.stencil), (fresh.scene.tri_id, fb.tri_id)):
+            assert np.array_equal(a, b)
+        assert np.array_equal(fresh.scene.depth, fb.depth, equal_nan=False)
+        assert fresh.log.events == reused.log.events
+
+
+def test_a_framebuffer_of_another_size_is_refused(cube):
+    from silcount.errors import BadArgument
+    from silcount.render.stencil import Framebuffer
+
+    with pytest.raises(BadArgument, match="framebuffer cannot hold"):
+        render_stencil(cube, "zfail", framebuffer=Framebuffer.of(cube.width + 1, cube.height))

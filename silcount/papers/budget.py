@@ -69,6 +69,8 @@ def shares(table: pd.DataFrame) -> pd.DataFrame:
             "llvmpipe": gl["seconds"] / gl["frame_seconds"],
             "software_ms": 1e3 * sw["seconds"],
             "llvmpipe_ms": 1e3 * gl["seconds"],
+            "software_leads": sw["leads"],
+            "llvmpipe_leads": gl["leads"],
         }
     )
     return out.reset_index()
@@ -80,8 +82,24 @@ def _top_two(col: pd.Series) -> str:
     return f"{100 * a:.1f}/{100 * b:.1f}"
 
 
+def _led(leads: pd.Series) -> str:
+    """``k/n``: the repeated frames in which the most frequent leader led, of all of them."""
+    return f"{int(leads.max())}/{int(leads.sum())}"
+
+
+def _agreement(top_sw: str, top_gl: str, settled: bool) -> str:
+    """``yes`` (the same dominant stage), ``NO`` (different ones, each renderer's led every one of its repeated
+    frames) or ``unsettled`` (different ones, and one renderer's repeated frames named different leaders: its
+    lead is within its own frame-to-frame spread, so no stage dominates it)."""
+    if top_sw == top_gl:
+        return "yes"
+    return "NO" if settled else "unsettled"
+
+
 def dominance(sh: pd.DataFrame) -> pd.DataFrame:
-    """Per frame: the dominant stage by operations, software time and llvmpipe time; detection's shares."""
+    """Per frame: the dominant stage by operations, software time and llvmpipe time (the kept frame's), whether
+    the renderers agree (:func:`_agreement`), how many repeated frames each renderer's leader led; detection's
+    shares."""
     rows = []
     for (scene, faces, size, method, detector), g in sh.groupby(
         ["scene", "faces", "size", "method", "detector"], sort=False
@@ -89,6 +107,7 @@ def dominance(sh: pd.DataFrame) -> pd.DataFrame:
         g = g.set_index("stage")
         top = {col: str(g[col].idxmax()) for col in ("ops_share", "software", "llvmpipe")}
         detection = {col: 100 * float(g[col]["detection"]) for col in ("ops_share", "software", "llvmpipe")}
+        settled = all(g[f"{r}_leads"].max() == g[f"{r}_leads"].sum() for r in ("software", "llvmpipe"))
         rows.append(
             {
                 "scene": scene,
@@ -98,7 +117,9 @@ def dominance(sh: pd.DataFrame) -> pd.DataFrame:
                 "ops": top["ops_share"],
                 "software": top["software"],
                 "llvmpipe": top["llvmpipe"],
-                "agree": "yes" if top["software"] == top["llvmpipe"] else "NO",
+                "agree": _agreement(top["software"], top["llvmpipe"], settled),
+                "sw led": _led(g["software_leads"]),
+                "gl led": _led(g["llvmpipe_leads"]),
                 "sw 1st/2nd %": _top_two(g["software"]),
                 "gl 1st/2nd %": _top_two(g["llvmpipe"]),
                 "detection ops %": detection["ops_share"],
@@ -253,7 +274,16 @@ def markdown(table: pd.DataFrame, meta: dict, corpus: list[str]) -> str:
     """The section's text (module docstring)."""
     sh = shares(table)
     dom = dominance(sh)
-    by_scene = dom.groupby(["scene", "size"], sort=False)["agree"].agg(lambda a: f"{(a == 'yes').sum()}/{len(a)}")
+    by_scene = (
+        dom.groupby(["scene", "size"], sort=False)["agree"]
+        .agg(
+            agree=lambda a: f"{(a == 'yes').sum()}/{len(a)}",
+            disagree=lambda a: int((a == "NO").sum()),
+            unsettled=lambda a: int((a == "unsettled").sum()),
+        )
+        .reset_index()
+    )
+    count = dom.agree.value_counts()
     whole = dom[dom.case.isin(["z-fail reference", "per-triangle"])]
     lines = [
         "# The frame budget",
@@ -273,12 +303,17 @@ def markdown(table: pd.DataFrame, meta: dict, corpus: list[str]) -> str:
         "",
         "## Which stage dominates",
         "",
-        "Agreement of software and llvmpipe on the stage taking the most time, per scene and resolution "
-        "(cases agreeing / cases):",
+        "Agreement of software and llvmpipe on the stage taking the most time in the kept frame, per scene "
+        "and resolution (cases agreeing / cases). Where they differ, the frame is `NO` if each renderer's "
+        f"dominant stage led every one of its {meta['repeat']} repeated frames, and `unsettled` if one "
+        "renderer's repeated frames named different leaders (its lead is within its own frame-to-frame spread: "
+        "that renderer has no dominant stage to agree with); `sw led` and `gl led` give how many of them "
+        "the most frequent leader led.",
         "",
-        _md(by_scene.rename("agree").reset_index()),
+        _md(by_scene),
         "",
-        f"Over all {len(dom)} frames: {(dom.agree == 'yes').sum()} agree. The z-fail (reference) and "
+        f"Over all {len(dom)} frames: {count.get('yes', 0)} agree, {count.get('NO', 0)} disagree, "
+        f"{count.get('unsettled', 0)} unsettled. The z-fail (reference) and "
         "per-triangle frames (every detector's row, and every stage's share, are in `budget-shares.csv`):",
         "",
         _md(whole),

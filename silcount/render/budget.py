@@ -56,7 +56,10 @@ COLUMNS = [
     "operations",
     "fragments",
     "stencil_updates",
+    "leads",
 ]
+"""``leads``: in how many of the ``repeat`` frames the stage took the most time (the renderer's dominant stage
+is settled when one stage led every frame; :func:`silcount.papers.budget.dominance`)."""
 RENDERERS = ("software", "llvmpipe")
 PERTRIANGLE = "pertriangle"
 
@@ -94,6 +97,16 @@ def _median(frames: list[Any], key: Callable[[Any], float]) -> Any:
     return frames[(len(frames) - 1) // 2]
 
 
+def leads(stages: Iterable[str], seconds: Iterable[Iterable[float]]) -> dict[str, int]:
+    """Per stage, the number of frames (``seconds``: each frame's stage times, in ``stages``' order) in which it
+    took the most time."""
+    names = list(stages)
+    out = dict.fromkeys(names, 0)
+    for frame in seconds:
+        out[names[int(np.argmax(list(frame)))]] += 1
+    return out
+
+
 @contextmanager
 def no_gc() -> Iterator[None]:
     """Collect, then keep Python's cyclic collector off while frames are timed (as :mod:`timeit` does): a
@@ -109,13 +122,17 @@ def no_gc() -> Iterator[None]:
 
 
 def software_rows(scene: Scene, method: str, detector: str, repeat: int) -> list[dict]:
-    """The software frame (median of ``repeat`` after a warm-up), one row per stage."""
+    """The software frame (median of ``repeat`` after a warm-up), one row per stage; the frames share one
+    framebuffer, as the llvmpipe frames of a scene and size share their :class:`.opengl.GLFrame`."""
     from silcount.render.stages import frame_stages
+    from silcount.render.stencil import Framebuffer
 
-    frame_stages(scene, method, detector)
-    table = _median(
-        [frame_stages(scene, method, detector) for _ in range(repeat)], lambda t: t["frame_seconds"].iloc[0]
-    )
+    fb = Framebuffer.of(scene.width, scene.height)
+    frame_stages(scene, method, detector, framebuffer=fb)
+    with no_gc():
+        frames = [frame_stages(scene, method, detector, framebuffer=fb) for _ in range(repeat)]
+    table = _median(frames, lambda t: t["frame_seconds"].iloc[0])
+    led = leads(table["stage"], (f["seconds"] for f in frames))
     ops = table[[*KINDS, "div"]].sum(axis=1)
     return [
         {
@@ -125,6 +142,7 @@ def software_rows(scene: Scene, method: str, detector: str, repeat: int) -> list
             "operations": int(o),
             "fragments": int(r.fragments),
             "stencil_updates": int(r.stencil_updates),
+            "leads": led[r.stage],
         }
         for r, o in zip(table.itertuples(), ops, strict=True)
     ]
@@ -139,6 +157,7 @@ def llvmpipe_rows(scene: Scene, method: str, detector: str, repeat: int, gl) -> 
     with no_gc():
         frames = [gl_frame(scene, method, detector, gl=gl) for _ in range(repeat)]
     res = _median(frames, lambda r: r.seconds_frame)
+    led = leads(res.stages["stage"], (f.stages["seconds_wall"] for f in frames))
     return [
         {
             "stage": r.stage,
@@ -147,6 +166,7 @@ def llvmpipe_rows(scene: Scene, method: str, detector: str, repeat: int, gl) -> 
             "operations": pd.NA,
             "fragments": pd.NA if pd.isna(r.fragments) else int(r.fragments),
             "stencil_updates": pd.NA,
+            "leads": led[r.stage],
         }
         for r in res.stages.itertuples()
     ]
@@ -186,7 +206,7 @@ def measure(
                     case = {"renderer": renderer, "method": method, "detector": detector}
                     rows += [head | case | r for r in got]
     return pd.DataFrame(rows, columns=COLUMNS).astype(
-        {"operations": "Int64", "fragments": "Int64", "stencil_updates": "Int64"}
+        {"operations": "Int64", "fragments": "Int64", "stencil_updates": "Int64", "leads": int}
     )
 
 
@@ -220,8 +240,22 @@ def read(folder: Path | None = None) -> tuple[pd.DataFrame, dict]:
     table = pd.read_csv(
         folder / DATA, keep_default_na=False, na_values={"operations": [""], "fragments": [""], "stencil_updates": [""]}
     )
-    table = table.astype({"operations": "Int64", "fragments": "Int64", "stencil_updates": "Int64", "detector": str})
+    table = table.astype(
+        {"operations": "Int64", "fragments": "Int64", "stencil_updates": "Int64", "leads": int, "detector": str}
+    )
     return table, json.loads((folder / META).read_text(encoding="utf-8"))
 
 
-__all__ = ["COLUMNS", "DATA", "META", "SIZES", "caster_faces", "cases", "measure", "over_floor", "read", "write"]
+__all__ = [
+    "COLUMNS",
+    "DATA",
+    "META",
+    "SIZES",
+    "caster_faces",
+    "cases",
+    "leads",
+    "measure",
+    "over_floor",
+    "read",
+    "write",
+]

@@ -55,7 +55,7 @@ from silcount.errors import BadArgument
 from silcount.mesh.lights import DirectionalLight, Light
 from silcount.options import STAGE_FORMATS
 from silcount.render.scene import Scene
-from silcount.render.stencil import STAGES, FrameLog, render_stencil
+from silcount.render.stencil import STAGES, Framebuffer, FrameLog, render_stencil
 
 COSTS: dict[str, dict[str, int]] = {
     "vertices_transformed": {"mul": 16, "add": 12},
@@ -131,9 +131,11 @@ def frame_stages(
     variant: str = "intended",
     shadow_test: str = "nonzero",
     volume: str = "infinite",
+    framebuffer: Framebuffer | None = None,
 ) -> pd.DataFrame:
     """Render ``scene`` (at ``resolution`` = (width, height) if given) by ``method`` (``zpass``, ``zfail``,
-    ``pertriangle``) and return its stages, one row each (:data:`COLUMNS`).
+    ``pertriangle``) and return its stages, one row each (:data:`COLUMNS`).  Frames timed one after another
+    should share a ``framebuffer`` (:class:`.stencil.Framebuffer`), as a GL application's frames share theirs.
 
     The counts are exact and deterministic (the same for any number of threads); ``volume`` ``truncated``
     is refused (its "new pixel" step has no count here).  For ``pertriangle`` the detector column is empty.
@@ -142,7 +144,9 @@ def frame_stages(
         raise BadArgument("stage counts cover infinite and uncapped ('sides') volumes, not truncated ones")
     if resolution is not None:
         scene = scene.with_resolution(*resolution)
-    res = render_stencil(scene, method, detector, variant, shadow_test=shadow_test, volume=volume)
+    res = render_stencil(
+        scene, method, detector, variant, shadow_test=shadow_test, volume=volume, framebuffer=framebuffer
+    )
     return stage_table(res.log, scene.light, method, "" if method == "pertriangle" else detector)
 
 
