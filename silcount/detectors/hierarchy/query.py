@@ -33,15 +33,21 @@ from silcount.mesh.lights import DirectionalLight, Light
 from silcount.mesh.model import Mesh
 from silcount.threads import fitted
 
-PARALLEL_NODES = 1 << 15  # smaller trees are walked on one thread (waking the thread pool costs more than it saves)
+PARALLEL_NODES = 1 << 21
+"""Smaller trees are walked on one thread: waking the thread pool and sharing the subtrees out cost more than
+they save.  Measured on 2 cores (load 0.5, ``OMP_WAIT_POLICY=passive``), median over 8 lights of the best of
+5 walks: gaussmap on the 1.04 M-face bunny (259,487 nodes) 0.49 ms on one thread, 0.74 ms on two; on
+4.17 M faces 1.04 against 1.15 ms; cones on 1.04 M faces 0.70 against 0.83-1.07 ms.  Larger trees than
+those keep the parallel walk, which was not measured there."""
 _SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDictionary()
 
 
 def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, dict[str, int], int]:
     """Edge ids (ascending), steps and face-evaluation ties of one query, compiled.
 
-    Trees of at least ``PARALLEL_NODES`` nodes are walked in parallel subtrees when more than one of numba's
-    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on one; the ids and steps are the
+    Trees of at least :data:`PARALLEL_NODES` nodes are walked in parallel subtrees when more than one of numba's
+    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on one thread (numba's pool left
+    asleep); the ids and steps are the
     same either way.  The edges are written into one output buffer kept with the tree (the subtrees write
     from their own first positions, so a fresh buffer would be touched page by page on every query), then
     sorted out of it (:func:`ascending_ids`).
@@ -53,8 +59,9 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
         out = _SCRATCH.setdefault(tree, np.empty(tree.order.size, dtype=np.int64))
     stats = np.zeros(N_STATS, dtype=np.int64)
     start, sides = mesh.edge_sides
-    with fitted() as threads:  # the cores free now (silcount.threads)
-        split = TASK_LEVEL if tree.n_nodes >= PARALLEL_NODES and threads > 1 else -1
+    parallel = tree.n_nodes >= PARALLEL_NODES
+    with fitted(None if parallel else 1) as threads:  # the cores free now (silcount.threads); one if serial
+        split = TASK_LEVEL if parallel and threads > 1 else -1
         k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout,
                   tree.order, tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
                   np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
