@@ -82,7 +82,7 @@ def test_every_built_in_declares_itself_and_its_paper_model_annotates_it():
     from silcount.detectors import DETECTORS, builtin, registry
 
     assert DETECTORS == ("reference", "ta", "vnv", "hsd", "eesd", "gaussmap", "cones")
-    for spec in builtin.SPECS:
+    for spec in builtin.specs():
         assert registry.get(spec.name) is spec and registry.source_of(spec.name) == "built-in"
         assert models.load(spec.paper_model)["algorithm"] == spec.name  # the file annotates this detector
         res = spec.detect(silcount.builtin_mesh("tetrahedron"), DirectionalLight((0.2, 0.3, 1.0)))

@@ -14,6 +14,8 @@ from plugins import BARE, REPO, env_with, scene, silcount, site
 
 from silcount.detectors.spec import DetectorSpec
 
+BUILT_INS = ("reference", "ta", "vnv", "hsd", "eesd", "gaussmap", "cones")
+
 
 def _detect(*args, **kw):
     raise AssertionError("not called")
@@ -106,11 +108,14 @@ def test_a_broken_plugin_is_one_line_naming_it_and_the_built_ins_keep_working(tm
     entry_points, modules, line = BROKEN[case]
     env = env_with(site(tmp_path, case.replace(" ", "_"), entry_points, modules))
     args = ["audit", "data/tetrahedron.obj", "--random-lights", "2", "--format", "json", "--quiet"]
-    got = silcount([*args, "--detectors", "reference,ta"], env, cwd=REPO)
+    got = silcount(args, env, cwd=REPO)  # every registered detector: the registry fills, the plug-ins are read
     assert got.returncode == 0, got.stderr
     assert got.stderr.splitlines() == [f"silcount:0: PluginWarning: detector {line}"]
     audit = json.loads(got.stdout)
-    assert list(audit["detectors"]) == ["reference", "ta"] and audit["detectors"]["ta"]["agrees_with_reference"]
+    assert list(audit["detectors"]) == list(BUILT_INS) and audit["detectors"]["ta"]["agrees_with_reference"]
+    got = silcount([*args, "--detectors", "reference,ta"], env, cwd=REPO)  # built-ins by name: no plug-in read
+    assert got.returncode == 0 and got.stderr == "", got.stderr
+    assert list(json.loads(got.stdout)["detectors"]) == ["reference", "ta"]
     name = next(iter(entry_points))
     if case != "collision":  # asked for by name, the left-out plug-in is an unknown detector that says why
         got = silcount([*args, "--detectors", name], env, cwd=REPO)
@@ -155,3 +160,15 @@ def test_a_detector_lacking_parts_runs_everywhere_and_says_what_is_empty(tmp_pat
                    env)  # fmt: skip
     assert got.returncode == 0 and out.exists(), got.stderr
     assert "bare intended" in got.stdout
+
+
+def test_a_built_in_asked_for_by_name_imports_no_other_detector():
+    """``get('reference')`` in a fresh process: the reference's module is imported, no other detector's, and
+    no plug-in is looked for (the registry has not filled)."""
+    code = (
+        "import sys; from silcount.detectors import get, registry; spec = get('reference'); "
+        "print(spec.name, registry._state['discovered'], "
+        "sorted(m for m in sys.modules if m.split('.')[-1] in ('ta', 'vnv', 'hsd', 'gaussmap', 'cones', 'eesd')))"
+    )
+    got = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
+    assert got.stdout.split(None, 2) == ["reference", "False", "[]\n"]

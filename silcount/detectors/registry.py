@@ -1,7 +1,8 @@
 """The detectors silcount knows: the built-ins and the installed plug-ins, each a :class:`.spec.DetectorSpec`.
 
 :func:`register_detector` adds one.  The registry fills itself on first use (never at ``import silcount``):
-first the seven built-ins (:mod:`.builtin`, each registered by :func:`register_detector` like any other),
+first the seven built-ins (:mod:`.builtin`, each registered by :func:`register_detector` like any other; :func:`get`
+answers a built-in's name before that, from its own module alone),
 then every entry point of the group :data:`GROUP` of the installed distributions (:mod:`importlib.metadata`),
 in the order of their names.  A plug-in that fails to import, whose entry point is not a complete
 :class:`DetectorSpec`, or whose name is already taken, is left out with one line naming it (a
@@ -63,7 +64,7 @@ def _discover() -> None:
     _state["discovered"] = True  # first, so that a plug-in's own register_detector call does not recurse
     from silcount.detectors import builtin
 
-    for spec in builtin.SPECS:
+    for spec in builtin.specs():
         _add(spec, "built-in")
     for ep in sorted(entry_points(group=GROUP), key=lambda e: (e.name, e.value)):
         _load(ep)
@@ -101,7 +102,14 @@ def specs() -> tuple[DetectorSpec, ...]:
 
 def get(name: str, *, error: type[Exception] = BadArgument, prefix: str = "") -> DetectorSpec:
     """The spec of detector ``name``; ``error`` (one line listing the names) for an unknown one, naming the
-    plug-in if it is one that was left out."""
+    plug-in if it is one that was left out.
+
+    A built-in is answered before the registry fills (a plug-in can never take a built-in's name), so a
+    command that asks for built-ins by name imports neither the other detectors nor the plug-ins."""
+    from silcount.detectors import builtin
+
+    if name in builtin.MODULES:
+        return builtin.spec(name)
     known = names()
     if name not in known and name in _FAILED:
         raise error(f"{prefix}detector {name!r}: its plug-in was left out: {_FAILED[name]}")
