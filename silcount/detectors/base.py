@@ -160,12 +160,18 @@ def unique_ids(ids) -> np.ndarray:
 
 def on_threads(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
     """``[fn(x) for x in items]``, on numba's thread count of threads (``fn`` runs compiled code that releases
-    the GIL: each light's sequential kernel, side by side); in order, an exception raised as it was."""
+    the GIL: each light's sequential kernel, side by side); in order, an exception raised as it was.  Thread
+    ``t`` takes items ``t, t + threads, ...`` in one task (a task per item cost 37 us of submission each:
+    0.35 s of a corpus sweep's 9 s of units)."""
     threads = max(1, min(numba.get_num_threads(), len(items)))
     if threads == 1:
         return [fn(x) for x in items]
     with ThreadPoolExecutor(threads) as pool:
-        return list(pool.map(fn, items))
+        parts = list(pool.map(lambda t: [fn(x) for x in items[t::threads]], range(threads)))
+    out: list[R] = [None] * len(items)  # type: ignore[list-item]  # every slot is filled below
+    for t, part in enumerate(parts):
+        out[t::threads] = part
+    return out
 
 
 def make_silhouette(

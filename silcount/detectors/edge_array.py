@@ -117,7 +117,7 @@ _H01 = np.uint64(0x0101010101010101)
 
 
 @njit(cache=True, inline="always")
-def _popcount(x):  # pragma: no cover - compiled
+def popcount(x):  # pragma: no cover - compiled
     """Set bits of a uint64 (the SWAR sum of bit pairs, nibbles and bytes)."""
     x = x - ((x >> np.uint64(1)) & _M1)
     x = (x & _M2) + ((x >> np.uint64(2)) & _M2)
@@ -164,7 +164,7 @@ def _replay(start, side_key, poly_facing, n_keys, initial):  # pragma: no cover 
             if s >= 0:
                 w = s >> 6
                 bit = np.uint64(1) << np.uint64(s & 63)
-                pos = s - _popcount(dead_bits[w] & (bit - np.uint64(1)))  # live slots before s
+                pos = s - popcount(dead_bits[w] & (bit - np.uint64(1)))  # live slots before s
                 i = w
                 while i > 0:  # the deleted slots of words 0 .. w - 1
                     pos -= dead[i]
@@ -340,6 +340,7 @@ __all__ = [
     "replay",
     "replay_many",
     "plain_array_s",
+    "popcount",
     "directed_keys",
     "side_keys",
     "packed_edges",
