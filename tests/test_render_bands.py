@@ -32,8 +32,14 @@ REPO = Path(__file__).resolve().parents[1]
 SHARED = ("cube_on_floor", "icosahedron_on_floor", "torus_self_shadow", "cow_and_cubes", "eye_in_shadow")
 
 
-def _serial(clip, ids, mode, depth, st, tri_id):
-    """The baseline, in :func:`rasterize`'s signature; it counts nothing (these tests compare buffers)."""
+def _serial(clip, ids, mode, depth, st, tri_id, clear=False):
+    """The baseline, in :func:`rasterize`'s signature; it counts nothing (these tests compare buffers).  The
+    baseline drew into buffers cleared beforehand, whole: ``clear`` does that first."""
+    if clear and mode == DEPTH:
+        depth[:] = 1.0
+        tri_id[:] = -1
+    elif clear:
+        st[:] = 0
     rasterize_serial(clip, ids, mode, depth, st, tri_id)
     return np.zeros(len(COUNTS), dtype=np.int64)
 
@@ -109,6 +115,32 @@ def test_random_triangles_identical_for_any_number_of_parts(seed, mode):
         rasterize(clip, ids, mode, *got, parts=parts)
         for a, b in zip(got, want):
             assert np.array_equal(a, b), parts
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+@pytest.mark.parametrize("mode", [DEPTH, ZPASS, ZFAIL])
+def test_clearing_band_by_band_is_clearing_first(seed, mode):
+    """``clear=True`` into buffers full of garbage draws what the baseline draws into cleared ones, for any
+    number of parts (each band cleared by the part that draws it); the buffer a mode only reads is untouched."""
+    rng = np.random.default_rng(seed)
+    clip = _random_clip(rng, 300)
+    ids = np.arange(len(clip), dtype=np.int64)
+    depth, st, tri_id = new_buffers(83, 67)
+    if mode != DEPTH:
+        rasterize_serial(_random_clip(rng, 100), ids[:100], DEPTH, depth, st, tri_id)
+    want = [depth.copy(), st.copy(), tri_id.copy()]
+    rasterize_serial(clip, ids, mode, *want)
+    for parts in (1, 2, 3):
+        got = [depth.copy(), st.copy(), tri_id.copy()]
+        written = [0, 2] if mode == DEPTH else [1]
+        for k in written:
+            got[k][:] = rng.integers(-9, 9, got[k].shape)
+        rasterize(clip, ids, mode, *got, parts=parts, clear=True)
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b), parts
+    empty = [depth.copy(), np.full_like(st, 7), tri_id.copy()]
+    rasterize(clip[:0], ids[:0], ZFAIL, *empty, clear=True)  # no triangle: still cleared
+    assert not empty[1].any()
 
 
 def _committed_mask(name):

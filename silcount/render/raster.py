@@ -292,13 +292,27 @@ def _fill_rows(x0, y0, z0, x1, y1, z1, x2, y2, z2, front, mode, ident, depth, st
 
 
 @njit(cache=True)
-def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts):
-    """Bands ``part, part + parts, ...`` of the ``bands`` equal row bands, one after the other; in each, every
-    prepared triangle that reaches it, in input order, into the band's rows only."""
+def _clear_rows(mode, depth, stencil, tri_id, row_lo, row_hi):
+    """Rows ``row_lo..row_hi`` of the buffers ``mode`` writes, cleared: depth to the far plane (1) and ids to
+    -1 (``DEPTH``), else the stencil to 0."""
+    if mode == DEPTH:
+        depth[row_lo : row_hi + 1, :] = 1.0
+        tri_id[row_lo : row_hi + 1, :] = -1
+    else:
+        stencil[row_lo : row_hi + 1, :] = 0
+
+
+@njit(cache=True)
+def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts, clear):
+    """Bands ``part, part + parts, ...`` of the ``bands`` equal row bands, one after the other; in each (cleared
+    first if ``clear``, :func:`_clear_rows`), every prepared triangle that reaches it, in input order, into the
+    band's rows only."""
     H = depth.shape[0]
     for band in range(part, bands, parts):
         row_lo = band * H // bands
         row_hi = (band + 1) * H // bands - 1
+        if clear:
+            _clear_rows(mode, depth, stencil, tri_id, row_lo, row_hi)
         for t in range(nv.shape[0]):
             n = nv[t]
             if n < 3 or rows[t, 0] > row_hi or rows[t, 1] < row_lo:
@@ -332,9 +346,9 @@ def _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part,
 
 
 @njit(cache=True, parallel=True)
-def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts):
+def _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts, clear):
     for part in prange(parts):
-        _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts[part])
+        _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, part, parts, bands, counts[part], clear)
 
 
 COUNTS = ("fragments", "depth_passed", "stencil_updates")
@@ -343,9 +357,13 @@ test ``LESS`` passed, and stencil writes (``ZPASS``: the passed ones, ``ZFAIL``:
 is drawn by one part, so the sums do not depend on the number of parts."""
 
 
-def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None) -> np.ndarray:
+def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None, clear: bool = False) -> np.ndarray:
     """Rasterise (T, 3, 4) clip-space triangles into the buffers on ``parts`` threads (default: numba's threads
-    that have a free core, :func:`silcount.threads.fitted`); returns the :data:`COUNTS` (int64, in that order)."""
+    that have a free core, :func:`silcount.threads.fitted`); returns the :data:`COUNTS` (int64, in that order).
+
+    ``clear``: the buffers ``mode`` writes are cleared first (any content before is ignored), each row band by
+    the thread that then draws into it, as a tiled GPU clears a tile when it first draws into it: the band is
+    in that core's cache when its triangles arrive, and the two cores clear side by side."""
     T = clip.shape[0]
     X = np.empty((T, _MAXV), dtype=np.int64)
     Y = np.empty((T, _MAXV), dtype=np.int64)
@@ -355,16 +373,18 @@ def rasterize(clip, ids, mode, depth, stencil, tri_id, parts: int | None = None)
     rows = np.empty((T, 2), dtype=np.int64)
     H, W = depth.shape
     if not T:
+        if clear:
+            _clear_rows(mode, depth, stencil, tri_id, 0, H - 1)
         return np.zeros(len(COUNTS), dtype=np.int64)
     _prepare(clip, W, H, X, Y, Z, nv, area, rows)
     with fitted() as threads:  # the cores free now (silcount.threads)
         parts = parts or threads
         counts = np.zeros((parts, len(COUNTS)), dtype=np.int64)  # one row per part: no two threads add to one cell
         if parts == 1:
-            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1, counts[0])
+            _fill_part(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, 0, 1, 1, counts[0], clear)
         else:
             bands = min(H, BANDS_PER_PART * parts)
-            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts)
+            _fill_parts(X, Y, Z, nv, area, rows, ids, mode, depth, stencil, tri_id, parts, bands, counts, clear)
     return counts.sum(axis=0)
 
 

@@ -142,6 +142,16 @@ class Framebuffer:
     def of(cls, width: int, height: int) -> Framebuffer:
         return cls(*new_buffers(width, height))
 
+    @classmethod
+    def uncleared(cls, width: int, height: int) -> Framebuffer:
+        """New buffers left as allocated, for a frame whose passes clear what they draw into
+        (:func:`.raster.rasterize`'s ``clear``)."""
+        return cls(
+            np.empty((height, width)),
+            np.empty((height, width), dtype=np.int32),
+            np.empty((height, width), dtype=np.int32),
+        )
+
     def check(self, camera: Camera) -> None:
         if self.depth.shape != (camera.height, camera.width):
             h, w = self.depth.shape
@@ -155,15 +165,11 @@ def depth_pass(scene: Scene, camera: Camera, framebuffer: Framebuffer | None = N
     """Step (1): every scene triangle into the depth buffer, ids in scene order; into ``framebuffer``'s depth
     and ids (cleared first) if given, else into new buffers."""
     clip = to_clip(homogeneous(scene.triangles), camera.view_projection)
-    if framebuffer is None:
-        depth, _, tri_id = new_buffers(camera.width, camera.height)
-    else:
-        framebuffer.check(camera)
-        depth, tri_id = framebuffer.depth, framebuffer.tri_id
-        depth.fill(1.0)  # the far plane
-        tri_id.fill(-1)
-    counts = rasterize(clip, np.arange(len(clip), dtype=np.int64), DEPTH, depth, _NO_STENCIL, tri_id)
-    return SceneDepth(depth, tri_id, clip, counts)
+    fb = Framebuffer.uncleared(camera.width, camera.height) if framebuffer is None else framebuffer
+    fb.check(camera)
+    ids = np.arange(len(clip), dtype=np.int64)
+    counts = rasterize(clip, ids, DEPTH, fb.depth, _NO_STENCIL, fb.tri_id, clear=True)  # far plane, ids -1
+    return SceneDepth(fb.depth, fb.tri_id, clip, counts)
 
 
 def segment_blocked(origin: np.ndarray, target: np.ndarray, triangles: np.ndarray) -> bool:
@@ -319,14 +325,15 @@ def render_stencil(
             parts.append(clip)
     t0 = time.perf_counter()  # every caster's volume in one pass: the stencil is a sum of +-1, in any order
     if framebuffer is None:
-        stencil = np.zeros((H, W), dtype=np.int32)
+        stencil = np.empty((H, W), dtype=np.int32)  # cleared by the pass (clear=True)
     else:
         framebuffer.check(camera)
         stencil = framebuffer.stencil
-        stencil.fill(0)
     clip = np.ascontiguousarray(np.concatenate(parts, axis=0)) if parts else np.zeros((0, 3, 4))
     mode = ZPASS if method == "zpass" else ZFAIL
-    counts = rasterize(clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id)  # read-only
+    counts = rasterize(
+        clip, np.zeros(len(clip), dtype=np.int64), mode, sd.depth, stencil, sd.tri_id, clear=True
+    )  # the stencil cleared to 0 band by band; depth and ids read only
     log.events["stencil"].update(pixels_cleared=H * W, **dict(zip(COUNTS, counts.tolist())))
     log.seconds["stencil"] += time.perf_counter() - t0
     t0 = time.perf_counter()  # the lit pass: the stencil test on every visible sample (one per covered pixel)
