@@ -104,36 +104,50 @@ def _outward(V, edges, apex, which, L, directional, eps):  # pragma: no cover - 
     return p
 
 
+_OWN_BLOCK = 256  # edges per parallel task of :func:`_own_blocked` (its per-light scratch allocated once a task)
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def _own_blocked(
     lo, hi, out, V, edges, apex, Ls, directional, eps, start, order, side_face, tri_start, tri_idx
 ):  # pragma: no cover
     """(E, n) bool: does light ``j``'s ray of edge ``e`` meet a fan triangle of one of the edge's faces?
-    Edge-major, so an edge's triangles are read once for every light (then from cache); the ray as
-    :func:`outward_points_and_rays` makes it, the test the tracer's.  An edge's faces are tried last side
-    first: ``P`` is pushed away from the first face ``f1``, so a blocked ray (most of them) meets the other
-    face, and testing it first usually ends the search after one triangle (the answer, any hit, does not
-    depend on the order).  Edges ``lo .. hi - 1`` into ``out`` (all False there); returns 0."""
+    Edge-major, the lights innermost: for each edge, every light's ray (as :func:`outward_points_and_rays`
+    makes it), then each of the edge's fan triangles against every light's ray by the tracer's test, the
+    answers or-ed.  The loops over the lights have no branch, so the compiler runs them several lights to an
+    instruction; every light tests every triangle of the edge (no early exit), and the answer, any hit, is
+    the one a per-light search that stops at its first hit gives.  Edges ``lo .. hi - 1`` into ``out`` (all
+    False there); returns 0."""
     n = Ls.shape[0]
-    for e in prange(lo, hi):
-        a, b, c = edges[e, 0], edges[e, 1], apex[e]
-        for j in range(n):
-            L = Ls[j]
-            p0, p1, p2 = _outward_point(V, a, b, c, L, directional, eps)
-            if directional:
-                o0, o1, o2, d0, d1, d2, lo = p0, p1, p2, L[0], L[1], L[2], -np.inf
-            else:
-                o0, o1, o2, d0, d1, d2, lo = L[0], L[1], L[2], p0 - L[0], p1 - L[1], p2 - L[2], 0.0
-            for s in range(start[e + 1] - 1, start[e] - 1, -1):
+    tasks = (hi - lo + _OWN_BLOCK - 1) // _OWN_BLOCK
+    for task in prange(tasks):
+        o0, o1, o2 = np.empty(n), np.empty(n), np.empty(n)
+        d0, d1, d2 = np.empty(n), np.empty(n), np.empty(n)
+        hit = np.empty(n, dtype=np.bool_)
+        t_lo = -np.inf if directional else 0.0
+        for e in range(lo + task * _OWN_BLOCK, min(hi, lo + (task + 1) * _OWN_BLOCK)):
+            a, b, c = edges[e, 0], edges[e, 1], apex[e]
+            for j in range(n):
+                lx, ly, lz = Ls[j, 0], Ls[j, 1], Ls[j, 2]
+                p0, p1, p2 = _outward_point(V, a, b, c, (lx, ly, lz), directional, eps)
+                if directional:
+                    o0[j], o1[j], o2[j], d0[j], d1[j], d2[j] = p0, p1, p2, lx, ly, lz
+                else:
+                    o0[j], o1[j], o2[j], d0[j], d1[j], d2[j] = lx, ly, lz, p0 - lx, p1 - ly, p2 - lz
+                hit[j] = False
+            for s in range(start[e], start[e + 1]):
                 f = side_face[order[s]]
                 for t in range(tri_start[f], tri_start[f + 1]):
                     x, y, z = tri_idx[t, 0], tri_idx[t, 1], tri_idx[t, 2]
-                    if moller_trumbore(o0, o1, o2, d0, d1, d2, V[x, 0], V[x, 1], V[x, 2], V[y, 0], V[y, 1],
-                                       V[y, 2], V[z, 0], V[z, 1], V[z, 2], lo, np.inf)[0]:  # fmt: skip
-                        out[e, j] = True
-                        break
-                if out[e, j]:
-                    break
+                    ax, ay, az = V[x, 0], V[x, 1], V[x, 2]
+                    bx, by, bz = V[y, 0], V[y, 1], V[y, 2]
+                    cx, cy, cz = V[z, 0], V[z, 1], V[z, 2]
+                    for j in range(n):
+                        h, _ = moller_trumbore(o0[j], o1[j], o2[j], d0[j], d1[j], d2[j], ax, ay, az, bx, by, bz,
+                                               cx, cy, cz, t_lo, np.inf)  # fmt: skip
+                        hit[j] |= h
+            for j in range(n):
+                out[e, j] = hit[j]
     return 0
 
 
