@@ -92,9 +92,9 @@ Engines
 ``naive`` runs the double loop on counting arithmetic.  ``fast`` computes the
 same points compiled in the same order of operations and casts only the rays
 that matter: a ray that meets one of its own edge's faces (the same
-Moller-Trumbore test, bit for bit, on the edge's faces' fan triangles, the
-other face first: :func:`.rays.own_blocked`, every light of a
-:func:`detect_many` batch in one pass over the edges) is blocked in
+Moller-Trumbore test, bit for bit, on the edge's faces' fan triangles:
+:func:`.rays.own_blocked`, every light of a :func:`detect_many` batch in one
+pass over the edges, the lights innermost) is blocked in
 the full loop too, so only the rays that miss their own faces are cast against
 every triangle: on a closed mesh these are exactly the edges whose faces lie
 on one side as seen from the light, i.e. the reference silhouette (10,720 rays
