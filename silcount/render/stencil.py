@@ -142,16 +142,6 @@ class Framebuffer:
     def of(cls, width: int, height: int) -> Framebuffer:
         return cls(*new_buffers(width, height))
 
-    @classmethod
-    def uncleared(cls, width: int, height: int) -> Framebuffer:
-        """New buffers left as allocated, for a frame whose passes clear what they draw into
-        (:func:`.raster.rasterize`'s ``clear``)."""
-        return cls(
-            np.empty((height, width)),
-            np.empty((height, width), dtype=np.int32),
-            np.empty((height, width), dtype=np.int32),
-        )
-
     def check(self, camera: Camera) -> None:
         if self.depth.shape != (camera.height, camera.width):
             h, w = self.depth.shape
@@ -165,11 +155,14 @@ def depth_pass(scene: Scene, camera: Camera, framebuffer: Framebuffer | None = N
     """Step (1): every scene triangle into the depth buffer, ids in scene order; into ``framebuffer``'s depth
     and ids (cleared first) if given, else into new buffers."""
     clip = to_clip(homogeneous(scene.triangles), camera.view_projection)
-    fb = Framebuffer.uncleared(camera.width, camera.height) if framebuffer is None else framebuffer
-    fb.check(camera)
+    if framebuffer is None:  # new buffers, left as allocated: the pass clears them
+        depth, tri_id = np.empty((camera.height, camera.width)), np.empty((camera.height, camera.width), np.int32)
+    else:
+        framebuffer.check(camera)
+        depth, tri_id = framebuffer.depth, framebuffer.tri_id
     ids = np.arange(len(clip), dtype=np.int64)
-    counts = rasterize(clip, ids, DEPTH, fb.depth, _NO_STENCIL, fb.tri_id, clear=True)  # far plane, ids -1
-    return SceneDepth(fb.depth, fb.tri_id, clip, counts)
+    counts = rasterize(clip, ids, DEPTH, depth, _NO_STENCIL, tri_id, clear=True)  # the far plane, ids -1
+    return SceneDepth(depth, tri_id, clip, counts)
 
 
 def segment_blocked(origin: np.ndarray, target: np.ndarray, triangles: np.ndarray) -> bool:
