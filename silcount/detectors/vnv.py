@@ -216,6 +216,8 @@ def _facing_sides_many(face_start, side_edge, bits, lights, E):  # pragma: no co
             e = side_edge[s]
             more[e] |= once[e] & word
             once[e] |= word
+    sizes = face_start[1:] - face_start[:-1]
+    pairs = sizes * (sizes - 1) // 2
     sides = np.zeros(n, dtype=np.int64)
     behind = np.zeros(n, dtype=np.int64)
     facing = np.zeros(n, dtype=np.int64)
@@ -224,14 +226,14 @@ def _facing_sides_many(face_start, side_edge, bits, lights, E):  # pragma: no co
         a = b = c = 0
         for f in range(F):
             on = np.int64((bits[f] >> bit) & one)
-            m = face_start[f + 1] - face_start[f]
             a += on
-            b += on * m
-            c += on * (m * (m - 1) // 2)
+            b += on * sizes[f]
+            c += on * pairs[f]
         facing[j], sides[j], behind[j] = a, b, c
     counts = np.zeros(n + 1, dtype=np.int64)
     for e in range(E):
-        x = once[e] & ~more[e]
+        once[e] &= ~more[e]  # from here on: the lights whose counter of edge e is exactly 1
+        x = once[e]
         while x != zero:
             low = x & (~x + one)
             counts[slot[_bit_index(low)] + 1] += 1
@@ -240,7 +242,7 @@ def _facing_sides_many(face_start, side_edge, bits, lights, E):  # pragma: no co
     ids = np.empty(offsets[n], dtype=np.int64)
     fill = offsets[:n].copy()
     for e in range(E):
-        x = once[e] & ~more[e]
+        x = once[e]
         while x != zero:
             low = x & (~x + one)
             j = slot[_bit_index(low)]
