@@ -302,3 +302,35 @@ def test_a_framebuffer_of_another_size_is_refused(cube):
 
     with pytest.raises(BadArgument, match="framebuffer cannot hold"):
         render_stencil(cube, "zfail", framebuffer=Framebuffer.of(cube.width + 1, cube.height))
+
+
+def test_given_scene_clip_coordinates_change_only_the_depth_stage_transforms(cube):
+    """A frame given the scene's clip coordinates (as the GL frame uploads them once) draws the same bits; its
+    depth stage counts no vertex transform: on the hand scene, the hand count less its 9 vertices' 144 mul
+    and 108 add (:func:`test_hand_counts`), every other stage unchanged."""
+    from silcount.render.opengl import scene_clip
+
+    for sc in (triangle_scene(), cube):
+        clip = scene_clip(sc)
+        for method in ("zpass", "zfail", "pertriangle"):
+            fresh, given = render_stencil(sc, method), render_stencil(sc, method, scene_clip=clip)
+            for part in ("mask", "stencil"):
+                assert np.array_equal(getattr(fresh, part), getattr(given, part))
+            assert np.array_equal(fresh.scene.depth, given.scene.depth)
+            assert fresh.log.events["depth"]["vertices_transformed"] == 3 * len(clip)
+            assert given.log.events["depth"]["vertices_transformed"] == 0
+            for stage, events in fresh.log.events.items():
+                others = {k: n for k, n in events.items() if k != "vertices_transformed"}
+                assert {k: n for k, n in given.log.events[stage].items() if k != "vertices_transformed"} == others
+    ops, fragments, _ = DEPTH_STAGE
+    row = frame_stages(triangle_scene(), "zfail", scene_clip=scene_clip(triangle_scene())).set_index("stage")
+    assert {k: int(row.loc["depth", k]) for k in ops} == ops | {"add": 533 - 108, "mul": 484 - 144}
+    assert int(row.loc["depth", "fragments"]) == fragments
+
+
+def test_scene_clip_coordinates_of_another_scene_are_refused(cube):
+    from silcount.errors import BadArgument
+    from silcount.render.opengl import scene_clip
+
+    with pytest.raises(BadArgument, match="scene_clip"):
+        render_stencil(cube, "zfail", scene_clip=scene_clip(triangle_scene()))

@@ -121,16 +121,17 @@ def no_gc() -> Iterator[None]:
             gc.enable()
 
 
-def software_rows(scene: Scene, method: str, detector: str, repeat: int) -> list[dict]:
+def software_rows(scene: Scene, method: str, detector: str, repeat: int, clip: np.ndarray) -> list[dict]:
     """The software frame (median of ``repeat`` after a warm-up), one row per stage; the frames share one
-    framebuffer, as the llvmpipe frames of a scene and size share their :class:`.opengl.GLFrame`."""
+    framebuffer and the scene's clip coordinates ``clip`` (:func:`.opengl.scene_clip`), as the llvmpipe frames
+    of a scene and size share their :class:`.opengl.GLFrame` and the scene uploaded to it."""
     from silcount.render.stages import frame_stages
     from silcount.render.stencil import Framebuffer
 
     fb = Framebuffer.of(scene.width, scene.height)
-    frame_stages(scene, method, detector, framebuffer=fb)
+    frame_stages(scene, method, detector, framebuffer=fb, scene_clip=clip)
     with no_gc():
-        frames = [frame_stages(scene, method, detector, framebuffer=fb) for _ in range(repeat)]
+        frames = [frame_stages(scene, method, detector, framebuffer=fb, scene_clip=clip) for _ in range(repeat)]
     table = _median(frames, lambda t: t["frame_seconds"].iloc[0])
     led = leads(table["stage"], (f["seconds"] for f in frames))
     ops = table[[*KINDS, "div"]].sum(axis=1)
@@ -192,14 +193,15 @@ def measure(
         for size in sizes:
             scene = base.with_resolution(size, size)
             gl = GLFrame(size, size)
-            gl.set_scene(scene_clip(scene))
+            clip = scene_clip(scene)  # computed once, for both renderers' frames
+            gl.set_scene(clip)
             head = {"scene": scene.name, "faces": caster_faces(scene), "size": size}
             for method, detector in cases(detectors):
                 if progress is not None:
                     progress(f"{scene.name} {size} {method} {detector}".strip())
                 for renderer in RENDERERS:
                     got = (
-                        software_rows(scene, method, detector or "reference", repeat)
+                        software_rows(scene, method, detector or "reference", repeat, clip)
                         if renderer == "software"
                         else llvmpipe_rows(scene, method, detector or "reference", repeat, gl)
                     )

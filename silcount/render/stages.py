@@ -46,6 +46,7 @@ import json
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from silcount.atomic import atomic_path, write_text
@@ -132,10 +133,13 @@ def frame_stages(
     shadow_test: str = "nonzero",
     volume: str = "infinite",
     framebuffer: Framebuffer | None = None,
+    scene_clip: np.ndarray | None = None,
 ) -> pd.DataFrame:
     """Render ``scene`` (at ``resolution`` = (width, height) if given) by ``method`` (``zpass``, ``zfail``,
     ``pertriangle``) and return its stages, one row each (:data:`COLUMNS`).  Frames timed one after another
-    should share a ``framebuffer`` (:class:`.stencil.Framebuffer`), as a GL application's frames share theirs.
+    should share a ``framebuffer`` (:class:`.stencil.Framebuffer`), as a GL application's frames share theirs,
+    and may share the scene's clip coordinates (``scene_clip``, :func:`.opengl.scene_clip` of the scene at this
+    resolution), as :func:`.opengl.gl_frame` uploads them once: the depth stage then transforms no vertex.
 
     The counts are exact and deterministic (the same for any number of threads); ``volume`` ``truncated``
     is refused (its "new pixel" step has no count here).  For ``pertriangle`` the detector column is empty.
@@ -145,7 +149,14 @@ def frame_stages(
     if resolution is not None:
         scene = scene.with_resolution(*resolution)
     res = render_stencil(
-        scene, method, detector, variant, shadow_test=shadow_test, volume=volume, framebuffer=framebuffer
+        scene,
+        method,
+        detector,
+        variant,
+        shadow_test=shadow_test,
+        volume=volume,
+        framebuffer=framebuffer,
+        scene_clip=scene_clip,
     )
     return stage_table(res.log, scene.light, method, "" if method == "pertriangle" else detector)
 

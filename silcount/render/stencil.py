@@ -151,10 +151,18 @@ class Framebuffer:
 _NO_STENCIL = np.zeros((1, 1), dtype=np.int32)  # the DEPTH mode never touches the stencil
 
 
-def depth_pass(scene: Scene, camera: Camera, framebuffer: Framebuffer | None = None) -> SceneDepth:
+def depth_pass(
+    scene: Scene, camera: Camera, framebuffer: Framebuffer | None = None, scene_clip: np.ndarray | None = None
+) -> SceneDepth:
     """Step (1): every scene triangle into the depth buffer, ids in scene order; into ``framebuffer``'s depth
-    and ids (cleared first) if given, else into new buffers."""
-    clip = to_clip(homogeneous(scene.triangles), camera.view_projection)
+    and ids (cleared first) if given, else into new buffers.  ``scene_clip``: the scene's triangles already in
+    ``camera``'s clip space (:func:`.opengl.scene_clip`), else they are transformed here."""
+    if scene_clip is None:
+        clip = to_clip(homogeneous(scene.triangles), camera.view_projection)
+    elif scene_clip.shape != (len(scene.triangles), 3, 4):
+        raise BadArgument(f"scene_clip: {scene_clip.shape} is not the scene's ({len(scene.triangles)}, 3, 4) triangles")
+    else:
+        clip = scene_clip
     if framebuffer is None:  # new buffers, left as allocated: the pass clears them
         depth, tri_id = np.empty((camera.height, camera.width)), np.empty((camera.height, camera.width), np.int32)
     else:
@@ -274,9 +282,12 @@ def render_stencil(
     shadow_test: str = "nonzero",
     volume: str = "infinite",
     framebuffer: Framebuffer | None = None,
+    scene_clip: np.ndarray | None = None,
 ) -> StencilResult:
     """Shadow mask by stencil shadow volumes; ``depth`` reuses a depth pass of the same camera; ``framebuffer``
-    (:class:`Framebuffer`) is drawn into instead of new buffers.
+    (:class:`Framebuffer`) is drawn into instead of new buffers; ``scene_clip``: the scene's triangles in clip
+    space (:func:`.opengl.scene_clip`), computed before the frame for a scene that does not move, as the GL
+    frame uploads them once (:meth:`.opengl.GLFrame.set_scene`): the depth stage then transforms no vertex.
 
     ``method``: ``zpass``, ``zfail`` or ``pertriangle`` (z-fail on every light-facing triangle's own capped
     volume, :func:`.volumes.pertriangle_volume`: no detector runs, ``detector`` and ``variant`` are unused).
@@ -300,11 +311,12 @@ def render_stencil(
     log = FrameLog()
     H, W = camera.height, camera.width
     start = t0 = time.perf_counter()
-    sd = depth if depth is not None else depth_pass(scene, camera, framebuffer)
+    sd = depth if depth is not None else depth_pass(scene, camera, framebuffer, scene_clip)
     if depth is None:
         log.events["depth"].update(dict(zip(COUNTS, sd.counts.tolist())))
+        transformed = 3 * len(sd.clip) if scene_clip is None else 0
         log.events["depth"].update(
-            pixels_cleared=2 * H * W, vertices_transformed=3 * len(sd.clip), depth_writes=int(sd.counts[1])
+            pixels_cleared=2 * H * W, vertices_transformed=transformed, depth_writes=int(sd.counts[1])
         )
     log.seconds["depth"] += time.perf_counter() - t0
     caps = method == "pertriangle" or (method == "zfail" and volume != "sides")
