@@ -52,12 +52,16 @@ def test_measure_gives_every_stage_on_both_renderers():
 
 
 def test_the_committed_counts_are_this_code_s():
-    """The committed file's counts for cube_on_floor at 512^2 equal a frame rendered now (counts are exact)."""
+    """The committed file's counts for cube_on_floor at 512^2 equal a frame rendered now (counts are exact), given
+    the scene's clip coordinates as the measurement gives them (:func:`silcount.render.budget.software_rows`)."""
+    from silcount.render.opengl import scene_clip
+
     table, meta = budget.read()
     rows = table[(table.scene == "cube_on_floor") & (table["size"] == 512) & (table.renderer == "software")]
+    scene = template().with_resolution(512, 512)
     for method, detector in (("zfail", "ta"), ("pertriangle", "")):
         got = rows[(rows.method == method) & (rows.detector == detector)].set_index("stage")
-        fresh = frame_stages(template(), method, detector or "reference", resolution=(512, 512)).set_index("stage")
+        fresh = frame_stages(scene, method, detector or "reference", scene_clip=scene_clip(scene)).set_index("stage")
         ops = fresh[["add", "mul", "cmp", "read", "write", "div"]].sum(axis=1)
         assert got["operations"].astype(int).tolist() == ops.astype(int).tolist()
         assert got["fragments"].astype(int).tolist() == fresh["fragments"].tolist()
@@ -150,13 +154,28 @@ def test_leads_counts_each_frames_largest_stage():
     assert got == {"a": 1, "b": 2, "c": 0}
 
 
-def _frame(sw: dict[str, tuple[float, int]], gl: dict[str, tuple[float, int]]) -> pd.DataFrame:
-    """A shares table of one frame: stage -> (time share, frames led) per renderer."""
+def _frame(
+    sw: dict[str, tuple[float, int]], gl: dict[str, tuple[float, int]], ms: tuple[float, float] = (1.0, 1.0)
+) -> pd.DataFrame:
+    """A shares table of one frame: stage -> (time share, frames led) per renderer; ``ms``: each renderer's frame
+    time in milliseconds (a stage's is its share of it)."""
     return pd.DataFrame(
         [
-            {"scene": "s", "faces": 1, "size": 8, "method": "zfail", "detector": "reference", "stage": st,
-             "ops_share": 0.5, "software": sw[st][0], "llvmpipe": gl[st][0],
-             "software_leads": sw[st][1], "llvmpipe_leads": gl[st][1]}  # fmt: skip
+            {
+                "scene": "s",
+                "faces": 1,
+                "size": 8,
+                "method": "zfail",
+                "detector": "reference",
+                "stage": st,
+                "ops_share": 0.5,
+                "software": sw[st][0],
+                "llvmpipe": gl[st][0],
+                "software_ms": sw[st][0] * ms[0],
+                "llvmpipe_ms": gl[st][0] * ms[1],
+                "software_leads": sw[st][1],
+                "llvmpipe_leads": gl[st][1],
+            }  # fmt: skip
             for st in sw
         ]
     )
@@ -176,3 +195,20 @@ def test_dominance_says_yes_no_or_unsettled(gl_depth, gl_stencil, verdict):
     )
     row = report_budget.dominance(sh).iloc[0]
     assert row["agree"] == verdict and row["sw led"] == "3/3"
+
+
+def test_a_detection_lead_is_compared_in_milliseconds():
+    """By hand: a 2 ms software frame (detection 1.0 ms, depth 0.6, stencil 0.4) against a 4 ms llvmpipe frame
+    (detection 1.0 ms, depth 1.2, stencil 1.8): detection took 1.00 times as long, the other stages 3.0/1.0."""
+    sh = _frame(
+        {"detection": (0.5, 3), "depth": (0.3, 0), "stencil": (0.2, 0)},
+        {"detection": (0.25, 0), "depth": (0.3, 0), "stencil": (0.45, 3)},
+        ms=(2.0, 4.0),
+    )
+    dom = report_budget.dominance(sh)
+    row = dom.iloc[0]
+    assert (row["software"], row["llvmpipe"], row["agree"]) == ("detection", "stencil", "NO")
+    assert (row["detection sw/gl"], row["rest gl/sw"], row["detection sw/gl ms"]) == (1.0, 3.0, "1.00/1.00")
+    text = report_budget.detection_led_alone(dom)
+    assert "In the 1 of them" in text and "took 1.00-1.00 times" in text and "3.00-3.00 times" in text
+    assert report_budget.detection_led_alone(dom.assign(agree="yes")) == ""

@@ -236,17 +236,18 @@ def _caster_volume(
     receiver,
     sd: SceneDepth,
     log: FrameLog,
-    vp: np.ndarray,
+    camera: Camera,
 ) -> tuple[Volume, np.ndarray]:
     """Caster ``k``'s volume and the clip-space triangles it draws (``caps``: with the light and dark caps), by
-    the frame's view-projection ``vp``; its detection (``how``: detector, variant) and volume construction
-    logged."""
+    ``camera``'s view-projection (computed on first use: in the volume stage, as the GL frame's is, when the
+    depth pass was given the scene's clip coordinates); its detection (``how``: detector, variant) and volume
+    construction logged."""
     mesh, ev = scene.objects[k].mesh, log.events["volume"]
     point = not isinstance(scene.light, DirectionalLight)
     t0 = time.perf_counter()
     if method == "pertriangle":
         iv = pertriangle_volume(mesh, scene.light)
-        table = to_clip(iv.points, vp)  # each vertex and far point once: shared quads get the same coordinates
+        table = to_clip(iv.points, camera.view_projection)  # each point once: shared quads get the same bits
         sides, dark, vol = table[iv.sides], table[iv.dark_cap], iv.volume()
         ev["vertices_extruded"] += len(mesh.vertices) if point else 0
         ev["vertices_transformed"] += len(iv.points)
@@ -257,6 +258,7 @@ def _caster_volume(
         log.detection.update(sil.true_tally)
         t0 = t1
         vol = build_volume(mesh, scene.light, silhouette=sil, receiver=receiver)
+        vp = camera.view_projection
         sides = to_clip(vol.sides, vp)
         dark = to_clip(vol.dark_cap, vp) if caps else np.zeros((0, 3, 4))
         if point and receiver is None:  # to_infinity: a - L for both ends of each edge, each unlit face's corners
@@ -323,9 +325,7 @@ def render_stencil(
     volumes, parts = [], []
     for k, obj in enumerate(scene.objects):
         if obj.casts_shadow:
-            vol, clip = _caster_volume(
-                scene, k, method, caps, (detector, variant), receiver, sd, log, camera.view_projection
-            )
+            vol, clip = _caster_volume(scene, k, method, caps, (detector, variant), receiver, sd, log, camera)
             volumes.append(vol)
             parts.append(clip)
     t0 = time.perf_counter()  # every caster's volume in one pass: the stencil is a sum of +-1, in any order
