@@ -175,7 +175,7 @@ def _frame(
                 "llvmpipe_ms": gl[st][0] * ms[1],
                 "software_leads": sw[st][1],
                 "llvmpipe_leads": gl[st][1],
-            }  # fmt: skip
+            }
             for st in sw
         ]
     )
