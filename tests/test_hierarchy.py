@@ -121,6 +121,33 @@ def test_the_parallel_walk_equals_the_serial_one(monkeypatch, mesh_name, scheme)
         assert np.array_equal(np.sort(serial[0]), silhouette_edge_ids(mesh, light))
 
 
+@pytest.mark.parametrize("mesh_name", ["torus", "quad_cube"])
+@SCHEMES
+def test_the_serial_entry_equals_the_parallel_one_on_one_thread_and_on_tasks(mesh_name, scheme):
+    """``walk.query_serial`` (what ``query_fast`` runs below ``PARALLEL_NODES``) gives what ``walk.query`` gives
+    with no tasks on one thread, and with subtree tasks on two: the same ids in the same order, the same steps."""
+    from silcount.detectors.hierarchy import walk
+
+    mesh = silcount.builtin_mesh(mesh_name)
+    tree = hierarchy_build.build_fast(mesh, scheme, 2, 2)
+    p0, nrm = edge_faces(mesh)[:2]
+    start, sides = mesh.edge_sides
+    for light in LIGHTS:
+        s, thr = hierarchy.pretest(light, tree.p0_max)
+        runs = []
+        for how in ("serial", (-1, 1), (hierarchy.TASK_LEVEL, 2)):
+            out, stats = np.empty(tree.order.size, dtype=np.int64), np.zeros(walk.N_STATS, dtype=np.int64)
+            args = (tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout,
+                    tree.order, tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0,
+                    nrm, np.asarray(light.vector, dtype=np.float64), s, thr,
+                    isinstance(light, silcount.DirectionalLight), out, stats)  # fmt: skip
+            k = walk.query_serial(*args) if how == "serial" else walk.query(*args, *how)
+            runs.append((out[:k].copy(), stats.tolist()))
+        for ids, stats in runs[1:]:
+            assert np.array_equal(ids, runs[0][0]) and stats == runs[0][1]
+        assert np.array_equal(np.sort(runs[0][0]), silhouette_edge_ids(mesh, light))
+
+
 @SCHEMES
 def test_a_light_the_pretest_cannot_scale_opens_every_node_and_stays_exact(scheme):
     mesh = silcount.builtin_mesh("torus")

@@ -23,7 +23,7 @@ from silcount.detectors.hierarchy.build import build_fast
 from silcount.detectors.hierarchy.naive import build_naive, query_naive
 from silcount.detectors.hierarchy.tree import FANOUT, LEAF_SIZE, STEP_NAMES, TASK_LEVEL, Hierarchy, KeyScheme, pretest
 from silcount.detectors.hierarchy.tree import query_cost as _query_cost
-from silcount.detectors.hierarchy.walk import N_STATS, TIES, query
+from silcount.detectors.hierarchy.walk import N_STATS, TIES, query, query_serial
 from silcount.detectors.reference import fast_tally as reference_tally
 from silcount.detectors.reference import fast_tally_many as reference_tally_many
 from silcount.detectors.result import Silhouette
@@ -38,7 +38,9 @@ PARALLEL_NODES = 1 << 21
 they save.  Measured on 2 cores (load 0.5, ``OMP_WAIT_POLICY=passive``), median over 8 lights of the best of
 5 walks: gaussmap on the 1.04 M-face bunny (259,487 nodes) 0.49 ms on one thread, 0.74 ms on two; on
 4.17 M faces 1.04 against 1.15 ms; cones on 1.04 M faces 0.70 against 0.83-1.07 ms.  Larger trees than
-those keep the parallel walk, which was not measured there."""
+those keep the parallel walk, which was not measured there.  The one-thread walk first ran inside the parallel
+kernel with numba's thread count lowered to 1 around it; as its own serial kernel (:func:`.walk.query_serial`)
+a gaussmap query of that bunny went from 0.52-0.55 to 0.44 ms (load 0.4, best of 15, one light)."""
 _SCRATCH: "weakref.WeakKeyDictionary[Hierarchy, np.ndarray]" = weakref.WeakKeyDictionary()
 
 
@@ -46,9 +48,9 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     """Edge ids (ascending), steps and face-evaluation ties of one query, compiled.
 
     Trees of at least :data:`PARALLEL_NODES` nodes are walked in parallel subtrees when more than one of numba's
-    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on one thread (numba's pool left
-    asleep); the ids and steps are the
-    same either way.  The edges are written into one output buffer kept with the tree (the subtrees write
+    threads has a free core (:func:`silcount.threads.fitted`), smaller ones on the caller's thread outside any
+    parallel region (:func:`.walk.query_serial`: numba's pool neither woken nor resized); the ids and steps are
+    the same either way.  The edges are written into one output buffer kept with the tree (the subtrees write
     from their own first positions, so a fresh buffer would be touched page by page on every query), then
     sorted out of it (:func:`ascending_ids`).
     """
@@ -59,13 +61,15 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
         out = _SCRATCH.setdefault(tree, np.empty(tree.order.size, dtype=np.int64))
     stats = np.zeros(N_STATS, dtype=np.int64)
     start, sides = mesh.edge_sides
-    parallel = tree.n_nodes >= PARALLEL_NODES
-    with fitted(None if parallel else 1) as threads:  # the cores free now (silcount.threads); one if serial
-        split = TASK_LEVEL if parallel and threads > 1 else -1
-        k = query(tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout,
-                  tree.order, tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
-                  np.asarray(light.vector, dtype=np.float64), s, thr, isinstance(light, DirectionalLight), out, stats,
-                  split, threads)  # fmt: skip
+    directional = isinstance(light, DirectionalLight)
+    args = (tree.box, tree.boundary, tree.pair_levels, tree.other_levels, tree.leaf_size, tree.fanout, tree.order,
+            tree.n_pairs, tree.planes, tree.other_start, (start, sides, mesh.side_face), p0, nrm,
+            np.asarray(light.vector, dtype=np.float64), s, thr, directional, out, stats)  # fmt: skip
+    if tree.n_nodes < PARALLEL_NODES:
+        k = query_serial(*args)
+    else:
+        with fitted() as threads:  # the cores free now (silcount.threads)
+            k = query(*args, TASK_LEVEL if threads > 1 else -1, threads)
     steps = dict(zip(STEP_NAMES[:-1], stats[: len(STEP_NAMES) - 1].tolist(), strict=True))
     steps["add"] = int(k)
     return ascending_ids(out[:k], max(mesh.n_edges - 1, 0).bit_length()), steps, int(stats[TIES])

@@ -286,6 +286,47 @@ def _span(lv, level, fanout):  # pragma: no cover - compiled
     return fanout ** (lv.size - 2 - level)
 
 
+@njit(cache=True)
+def _tree_top(tr, box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes, other_start, mesh_csr,
+              p0, nrm, light, s, thr, thr32, directional, out, stats, task_level,
+              tasks):  # fmt: skip  # pragma: no cover - compiled
+    """Tree ``tr`` (0: the pair tree, 1: the other) walked from its root on this thread, down to ``task_level``
+    if the tree is deeper (the subtrees there appended to ``tasks``, :func:`_walk`), else whole; its edge ids
+    into ``out`` from the tree's first position (0, or ``n_pairs``): their count."""
+    pairs = tr == 0
+    lv = pair_lv if pairs else other_lv
+    if lv.size < 2:
+        return 0
+    lo = 0 if pairs else n_pairs
+    hi = n_pairs if pairs else order.size
+    st = other_start if not pairs else other_start[:1]
+    fbase = 0 if pairs else 2 * n_pairs
+    split = task_level if (task_level >= 0 and lv.size - 1 > task_level) else -1
+    widest = lv[1] - lv[0]
+    for lvl in range(lv.size - 1):
+        if split < 0 or lvl <= split:
+            widest = max(widest, lv[lvl + 1] - lv[lvl])
+    buf = np.empty(2 * (widest + fanout), dtype=np.int64)
+    return _walk(pairs, lv, 0, 0, box, boundary, leaf_size, fanout, order[lo:hi], st, mesh_csr, planes[fbase:], p0,
+                 nrm, light, s, thr, thr32, directional, out[lo:], 0, stats, buf, split, tasks)  # fmt: skip
+
+
+@njit(cache=True)
+def query_serial(box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes, other_start, mesh_csr,
+                 p0, nrm, light, s, thr, directional, out, stats):  # fmt: skip  # pragma: no cover - compiled
+    """:func:`query` with each tree walked whole on the caller's thread, outside any parallel region (so
+    numba's thread pool is neither woken nor resized): the same ids, in the same order, and the same steps."""
+    thr32 = np.float32(thr)
+    no_tasks = np.zeros(1, dtype=np.int64)
+    k = _tree_top(0, box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes, other_start,
+                  mesh_csr, p0, nrm, light, s, thr, thr32, directional, out, stats, -1, no_tasks)  # fmt: skip
+    m = _tree_top(1, box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes, other_start,
+                  mesh_csr, p0, nrm, light, s, thr, thr32, directional, out, stats, -1, no_tasks)  # fmt: skip
+    for j in range(m):  # the other tree's run, after the pair tree's
+        out[k + j] = out[n_pairs + j]
+    return k + m
+
+
 @njit(cache=True, parallel=True)
 def query(box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes, other_start, mesh_csr, p0, nrm,
           light, s, thr, directional, out, stats, task_level, threads):  # fmt: skip  # pragma: no cover - compiled
@@ -307,24 +348,10 @@ def query(box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, p
     run_base = np.zeros(n_trees, dtype=np.int64)
     run_count = np.zeros(n_trees, dtype=np.int64)
     for tr in range(n_trees):  # the top of each tree (or all of it)
-        pairs = tr == 0
-        lv = pair_lv if pairs else other_lv
-        if lv.size < 2:
-            continue
-        lo = 0 if pairs else n_pairs
-        hi = n_pairs if pairs else T
-        st = other_start if not pairs else other_start[:1]
-        fbase = 0 if pairs else 2 * n_pairs
-        split = task_level if (task_level >= 0 and lv.size - 1 > task_level) else -1
-        widest = lv[1] - lv[0]
-        for lvl in range(lv.size - 1):
-            if split < 0 or lvl <= split:
-                widest = max(widest, lv[lvl + 1] - lv[lvl])
-        buf = np.empty(2 * (widest + fanout), dtype=np.int64)
-        run_base[tr] = lo
-        run_count[tr] = _walk(pairs, lv, 0, 0, box, boundary, leaf_size, fanout, order[lo:hi], st, mesh_csr,
-                              planes[fbase:], p0, nrm, light, s, thr, thr32, directional, out[lo:], 0, stats, buf,
-                              split, tasks[tr])  # fmt: skip
+        run_base[tr] = 0 if tr == 0 else n_pairs
+        run_count[tr] = _tree_top(tr, box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, planes,
+                                  other_start, mesh_csr, p0, nrm, light, s, thr, thr32, directional, out, stats,
+                                  task_level, tasks[tr])  # fmt: skip
     total = tasks[0, 0] + tasks[1, 0]
     # the reached subtrees on task_level, both trees' in order, shared out between the threads
     tree_of = np.empty(total, dtype=np.int64)
@@ -371,4 +398,4 @@ def query(box, boundary, pair_lv, other_lv, leaf_size, fanout, order, n_pairs, p
     return k
 
 
-__all__ = ["query", "N_STATS", "TIES"]
+__all__ = ["query", "query_serial", "N_STATS", "TIES"]
