@@ -262,6 +262,8 @@ def _local(
         with _ctrl_c_remembered() as heard:
             pool = process_pool(min(workers, len(tasks))) if scheduler == "processes" else None  # threads: Dask's
             _compute(items, tasks, settings, scheduler, workers, done, pool, heard)
+            if pool is not None:  # the workers' exit waited for here, where a Ctrl-C is the sweep's to report:
+                pool.shutdown(wait=True)  # left to the interpreter's exit, a Ctrl-C then printed a traceback
     except KeyboardInterrupt:
         if pool is not None:
             stop_workers(pool)  # they do not hear Ctrl-C themselves (process_pool)
