@@ -17,7 +17,9 @@ passed again, evaluating exactly the faces it could not decide.  The levels
 above :data:`.tree.TASK_LEVEL` are walked first; the subtrees rooted on
 it that the walk reaches are then shared out between the threads (task
 ``t`` to thread ``t mod threads``), each writing its edges from its first
-edge position, and the runs are compacted in order.
+edge position, and the runs are compacted in order.  :func:`query_serial` walks
+each tree whole on the caller's thread, outside any parallel region (for small
+trees, :data:`.query.PARALLEL_NODES`).
 """
 
 from __future__ import annotations
