@@ -53,13 +53,12 @@ def free_cores() -> int:
 
 
 @contextmanager
-def fitted(at_most: int | None = None) -> Iterator[int]:
-    """numba's thread count for this thread lowered to :func:`free_cores` (and to ``at_most``, if given) inside
-    the block; the count used."""
+def fitted() -> Iterator[int]:
+    """numba's thread count for this thread lowered to :func:`free_cores` inside the block; the count used."""
     import numba
 
     before = numba.get_num_threads()
-    threads = min(before, free_cores(), at_most or before)
+    threads = min(before, free_cores())
     if threads == before:
         yield threads
         return

@@ -59,19 +59,6 @@ def test_fitted_never_raises_the_callers_count(loadavg):
         numba.set_num_threads(before)
 
 
-def test_fitted_at_most_caps_the_count_on_an_idle_machine(loadavg):
-    """Every core free, numba's count above one: ``at_most=1`` (a serial walk of the hierarchies) gives one."""
-    before = numba.get_num_threads()
-    if before < 2:
-        pytest.skip("numba runs one thread here: nothing to cap")
-    loadavg(1)
-    with threads.fitted(1) as n:
-        assert n == 1 and numba.get_num_threads() == 1
-    with threads.fitted(None) as n:
-        assert n == before
-    assert numba.get_num_threads() == before
-
-
 def test_passive_wait_is_the_default():
     assert os.environ.get("OMP_WAIT_POLICY") == "passive"  # set by import silcount unless the user chose
 

@@ -126,6 +126,7 @@ class GLFrame:
         GL.glBindVertexArray(GL.glGenVertexArrays(1))
         self.scene_vbo, self.volume_vbo = GL.glGenBuffers(2)
         self.n_scene = self.n_volume = 0
+        self.scene_clip = np.zeros((0, 3, 4))  # the uploaded scene's clip coordinates (its light caps' rows)
         GL.glViewport(0, 0, self.width, self.height)
         GL.glDisable(GL.GL_CULL_FACE)
         GL.glClearDepth(1.0)
@@ -165,6 +166,7 @@ class GLFrame:
 
     def set_scene(self, clip: np.ndarray) -> None:
         """The (T, 3, 4) scene triangles in clip space, uploaded once (the scene does not move)."""
+        self.scene_clip = clip
         self.n_scene = self._upload(self.scene_vbo, clip)
 
     def upload_volume(self, clip: np.ndarray) -> None:
@@ -310,10 +312,10 @@ def gl_frame(
     import pandas as pd
 
     check_choice("OpenGL method", method, METHODS)
-    clip = scene_clip(scene)
     if gl is None:
         gl = GLFrame(scene.width, scene.height)
-        gl.set_scene(clip)
+        gl.set_scene(scene_clip(scene))
+    clip = gl.scene_clip  # computed once with the upload, not every frame
     if (gl.width, gl.height) != (scene.width, scene.height):
         raise BadArgument(
             f"OpenGL frame: the context is {gl.width}x{gl.height}, the scene {scene.width}x{scene.height}"

@@ -68,8 +68,8 @@ def query_fast(mesh: Mesh, tree: Hierarchy, light: Light) -> tuple[np.ndarray, d
     if tree.n_nodes < PARALLEL_NODES:
         k = query_serial(*args)
     else:
-        with fitted() as threads:  # the cores free now (silcount.threads)
-            k = query(*args, TASK_LEVEL if threads > 1 else -1, threads)
+        with fitted() as threads:  # the cores free now (silcount.threads); one free core: the serial kernel
+            k = query(*args, TASK_LEVEL, threads) if threads > 1 else query_serial(*args)
     steps = dict(zip(STEP_NAMES[:-1], stats[: len(STEP_NAMES) - 1].tolist(), strict=True))
     steps["add"] = int(k)
     return ascending_ids(out[:k], max(mesh.n_edges - 1, 0).bit_length()), steps, int(stats[TIES])
